@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Prepare this workspace on Debian 12, idempotently: Debian packages (ROS 1,
+# ODE, numpy/scipy/matplotlib), the .venv for what Debian lacks, and catkin_make.
+# Every step is skipped when its result is already there.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+
+log() { printf '[setup] %s\n' "$*"; }
+
+mapfile -t debs < <(grep -v '^\s*#' scripts/debian-packages.txt | grep -v '^\s*$')
+missing=()
+for p in "${debs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  sudo_cmd=""
+  [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+  log "installing ${#missing[@]} Debian packages: ${missing[*]}"
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+  log "Debian packages present"
+fi
+
+if [ ! -x .venv/bin/python ]; then
+  log "creating .venv (system site packages visible)"
+  /usr/bin/python3 -m venv --system-site-packages .venv
+fi
+req_hash="$(sha256sum requirements.txt | cut -d' ' -f1)"
+if [ "$(cat .venv/.requirements.sha256 2>/dev/null || true)" != "$req_hash" ]; then
+  log "installing Python requirements into .venv"
+  .venv/bin/python -m pip install -q --disable-pip-version-check -r requirements.txt
+  echo "$req_hash" > .venv/.requirements.sha256
+else
+  log ".venv up to date"
+fi
+
+log "catkin_make"
+if ! catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release > .catkin_make.log 2>&1; then
+  tail -n 40 .catkin_make.log
+  log "catkin_make failed (full log: .catkin_make.log)"
+  exit 1
+fi
+log "workspace ready: source devel/setup.bash"

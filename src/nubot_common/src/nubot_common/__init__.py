@@ -1,0 +1,11 @@
+"""Shared pure-Python library of the NuBot workspace (no rospy here).
+
+Provides: ``field`` (MSL field geometry), ``match_mode`` (the coach's game
+commands), ``geometry`` (2-D poses and frames), ``params`` (typed parameter
+loading) and ``reconfigure`` (dynamic_reconfigure descriptions built at run time).
+The generated ``msg`` and ``srv`` modules live beside these after catkin_make.
+"""
+
+
+class NubotCommonError(ValueError):
+    """Raised for invalid input to the shared library (bad parameters, unknown enum values)."""

@@ -1,0 +1,80 @@
+"""Geometry of an MSL field, in the world frame (origin at the centre spot, x along the length, metres).
+
+Provides: ``FieldGeometry`` (frozen, validated), with the 2015 18 x 12 m field of the
+chapter as default and ``FieldGeometry.msl_current()`` for the 22 x 14 m field;
+goal-post positions, inside/outside tests and the field's white line segments.
+Parameters [m]: length, width, goal_width (inner, between posts), goal_height
+(under the bar), goal_depth, penalty/goal area sizes, centre circle radius,
+penalty mark distance, line width, border (the run-off area outside the lines).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class FieldGeometry:
+    length: float = 18.0
+    width: float = 12.0
+    goal_width: float = 2.4
+    goal_height: float = 1.0
+    goal_depth: float = 0.6
+    post_radius: float = 0.0625
+    penalty_area_length: float = 2.25
+    penalty_area_width: float = 6.5
+    goal_area_length: float = 0.75
+    goal_area_width: float = 3.5
+    center_circle_radius: float = 2.0
+    penalty_mark_distance: float = 3.0
+    line_width: float = 0.125
+    border: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("length", "width", "goal_width", "goal_height", "goal_depth", "border"):
+            if getattr(self, name) <= 0.0:
+                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+        if self.goal_width >= self.width:
+            raise ValueError("goal_width must be smaller than the field width")
+        if self.penalty_area_width >= self.width or self.penalty_area_length >= self.length / 2:
+            raise ValueError("the penalty area must fit inside one half of the field")
+
+    @classmethod
+    def msl_current(cls) -> "FieldGeometry":
+        """The 22 x 14 m field of the current MSL rules."""
+        return cls(length=22.0, width=14.0, penalty_area_length=2.25, penalty_area_width=6.5,
+                   penalty_mark_distance=3.6)
+
+    @property
+    def half_length(self) -> float:
+        return self.length / 2.0
+
+    @property
+    def half_width(self) -> float:
+        return self.width / 2.0
+
+    def goal_posts(self, side: int) -> tuple[tuple[float, float], tuple[float, float]]:
+        """Centres of the two posts of the goal at +x (side 1) or -x (side -1)."""
+        x = side * (self.half_length + self.post_radius)
+        y = self.goal_width / 2.0 + self.post_radius
+        return (x, -y), (x, y)
+
+    def is_inside(self, x: float, y: float, margin: float = 0.0) -> bool:
+        """True when (x, y) is within the lines grown by ``margin`` on every side."""
+        return abs(x) <= self.half_length + margin and abs(y) <= self.half_width + margin
+
+    def is_in_goal_mouth(self, y: float, z: float, ball_radius: float) -> bool:
+        """True when a ball centred at lateral y and height z passes wholly between the posts and under the bar."""
+        return abs(y) <= self.goal_width / 2.0 - ball_radius and z <= self.goal_height - ball_radius
+
+    def line_segments(self) -> list[tuple[tuple[float, float], tuple[float, float]]]:
+        """Straight white lines as ((x0, y0), (x1, y1)) pairs (centre circle excluded)."""
+        hl, hw = self.half_length, self.half_width
+        segments = [((-hl, -hw), (hl, -hw)), ((-hl, hw), (hl, hw)), ((-hl, -hw), (-hl, hw)),
+                    ((hl, -hw), (hl, hw)), ((0.0, -hw), (0.0, hw))]
+        for side in (-1, 1):
+            for depth, half in ((self.penalty_area_length, self.penalty_area_width / 2),
+                                (self.goal_area_length, self.goal_area_width / 2)):
+                x0, x1 = side * hl, side * (hl - depth)
+                segments += [((x0, -half), (x1, -half)), ((x0, half), (x1, half)), ((x1, -half), (x1, half))]
+        return segments

@@ -1,0 +1,66 @@
+"""Game commands the coach sends to a team (the chapter's ``MatchMode`` enum).
+
+Provides: ``MatchMode`` (IntEnum, values fixed by the chapter) and
+``parse_match_mode`` (accepts a number, a name or a ``char`` byte; raises
+``NubotCommonError`` naming the bad value otherwise).
+"""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+from nubot_common import NubotCommonError
+
+
+class MatchMode(IntEnum):
+    STOPROBOT = 0
+    OUR_KICKOFF = 1
+    OPP_KICKOFF = 2
+    OUR_THROWIN = 3
+    OPP_THROWIN = 4
+    OUR_PENALTY = 5
+    OPP_PENALTY = 6
+    OUR_GOALKICK = 7
+    OPP_GOALKICK = 8
+    OUR_CORNERKICK = 9
+    OPP_CORNERKICK = 10
+    OUR_FREEKICK = 11
+    OPP_FREEKICK = 12
+    DROPBALL = 13
+    STARTROBOT = 15
+    PARKINGROBOT = 25
+    TEST = 27
+
+    @property
+    def is_set_play(self) -> bool:
+        """True for the restarts that place the team before play resumes."""
+        return 1 <= self.value <= 13
+
+    def mirrored(self) -> "MatchMode":
+        """The same command as the other team must receive it (OUR_x <-> OPP_x)."""
+        if 1 <= self.value <= 12:
+            return MatchMode(self.value + 1 if self.value % 2 else self.value - 1)
+        return self
+
+
+def parse_match_mode(value: int | str | bytes) -> MatchMode:
+    """Turn a number, an enum name or a one-byte ``char`` into a ``MatchMode``."""
+    if isinstance(value, bytes):
+        if len(value) != 1:
+            raise NubotCommonError(f"MatchMode must be one byte, got {value!r}")
+        value = value[0]
+    if isinstance(value, str):
+        text = value.strip()
+        if text.lstrip("-").isdigit():
+            value = int(text)
+        else:
+            try:
+                return MatchMode[text.upper()]
+            except KeyError:
+                names = ", ".join(m.name for m in MatchMode)
+                raise NubotCommonError(f"unknown MatchMode name {value!r}; known: {names}") from None
+    try:
+        return MatchMode(int(value))
+    except ValueError:
+        known = ", ".join(f"{m.name}={m.value}" for m in MatchMode)
+        raise NubotCommonError(f"unknown MatchMode {value!r}; known: {known}") from None

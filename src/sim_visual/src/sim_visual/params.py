@@ -1,0 +1,174 @@
+"""Typed configuration of the simulator (read once from ``config/sim_visual.yaml``).
+
+Provides frozen, validated dataclasses; all values SI (m, kg, s, rad unless a
+name says ``_deg``). ``SimConfig`` is the whole configuration; ``PluginParams``
+and ``NoiseParams`` are the run-time reconfigurable part.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from dataclasses import field as dc_field
+
+from nubot_common.field import FieldGeometry
+
+MAX_STEP_SIZE = 0.007  # [s], chapter Table 2
+
+
+def _positive(obj: object, *names: str) -> None:
+    for name in names:
+        if not getattr(obj, name) > 0.0:
+            raise ValueError(f"{name} must be positive, got {getattr(obj, name)}")
+
+
+def _non_negative(obj: object, *names: str) -> None:
+    for name in names:
+        if not getattr(obj, name) >= 0.0:
+            raise ValueError(f"{name} must not be negative, got {getattr(obj, name)}")
+
+
+@dataclass(frozen=True)
+class RobotBody:
+    """The robot model of chapter Table 1: a simplified cylinder, no joints."""
+
+    mass: float = 31.0  # [kg]
+    inertia_zz: float = 2.86  # [kg m^2]
+    friction: float = 0.1  # contact friction coefficient against ball and robots
+    radius: float = 0.26  # collision cylinder radius [m] (52 cm footprint, MSL maximum)
+    height: float = 0.75  # collision cylinder height [m]
+
+    def __post_init__(self) -> None:
+        _positive(self, "mass", "inertia_zz", "radius", "height")
+        _non_negative(self, "friction")
+
+
+@dataclass(frozen=True)
+class BallBody:
+    """A FIFA size 5 ball."""
+
+    mass: float = 0.41  # [kg]
+    radius: float = 0.11  # [m]
+    rolling_friction: float = 0.06  # rolling deceleration = rolling_friction * g
+    ground_friction: float = 0.4  # sliding friction against the carpet
+    restitution: float = 0.5  # bounce off the ground, robots and posts
+    net_restitution: float = 0.1  # bounce off the goal nets
+
+    def __post_init__(self) -> None:
+        _positive(self, "mass", "radius")
+        _non_negative(self, "rolling_friction", "ground_friction")
+        for name in ("restitution", "net_restitution"):
+            if not 0.0 <= getattr(self, name) <= 1.0:
+                raise ValueError(f"{name} must lie in [0, 1], got {getattr(self, name)}")
+
+
+@dataclass(frozen=True)
+class PhysicsParams:
+    step_size: float = 0.005  # [s], at most 0.007 (chapter Table 2)
+    gravity: float = -9.8  # [m/s^2] along z
+
+    def __post_init__(self) -> None:
+        if not 0.0 < self.step_size <= MAX_STEP_SIZE:
+            raise ValueError(f"step_size must lie in (0, {MAX_STEP_SIZE}] s, got {self.step_size}")
+        if not self.gravity < 0.0:
+            raise ValueError(f"gravity must be negative (down), got {self.gravity}")
+
+
+@dataclass(frozen=True)
+class PluginParams:
+    """The model plugin's rules (reconfigurable at run time)."""
+
+    dribble_distance: float = 0.50  # robot centre to ball centre, in the plane [m]
+    dribble_angle_deg: float = 30.0  # full width of the cone in front of the robot [deg]
+    hold_distance: float = 0.43  # held ball centre ahead of the robot centre [m]
+    max_linear_speed: float = 5.0  # commands faster than this are clamped [m/s]
+    max_angular_speed: float = 12.0  # [rad/s]
+    command_timeout: float = 0.5  # a robot with no command for this long stops [s]; 0 never
+    kick_max_speed: float = 12.0  # ball speed limit of a kick [m/s]
+    kick_recapture_delay: float = 0.3  # the kicker cannot hold the ball again this soon [s]
+    lob_horizontal_speed: float = 6.0  # preferred horizontal speed of a lob [m/s]
+    lob_max_flight_time: float = 1.6  # longer lobs get a faster horizontal speed [s]
+    lob_bar_margin: float = 0.15  # ball top passes this far under the bar [m]
+    lob_default_distance: float = 6.0  # lob length when the robot does not face the goal [m]
+    stuck_time: float = 1.0  # slower than half the command this long means stuck [s]
+
+    def __post_init__(self) -> None:
+        _positive(self, "dribble_distance", "hold_distance", "max_linear_speed", "max_angular_speed",
+                  "kick_max_speed", "lob_horizontal_speed", "lob_max_flight_time", "lob_default_distance",
+                  "stuck_time")
+        _non_negative(self, "command_timeout", "kick_recapture_delay", "lob_bar_margin")
+        if not 0.0 < self.dribble_angle_deg <= 180.0:
+            raise ValueError(f"dribble_angle_deg must lie in (0, 180], got {self.dribble_angle_deg}")
+
+    @property
+    def dribble_half_angle(self) -> float:
+        """Largest bearing [rad] from the robot front at which the ball can be held."""
+        return math.radians(self.dribble_angle_deg) / 2.0
+
+
+@dataclass(frozen=True)
+class NoiseParams:
+    """Gaussian noise (standard deviations) on what each robot perceives; 0 disables."""
+
+    position_std: float = 0.05  # ball and obstacle positions [m]
+    velocity_std: float = 0.10  # ball and robot velocities [m/s]
+    self_position_std: float = 0.02  # own position (self-localization) [m]
+    heading_std: float = 0.01  # own heading [rad]
+    vision_range: float = 0.0  # objects farther than this are not seen [m]; 0 unlimited
+
+    def __post_init__(self) -> None:
+        _non_negative(self, "position_std", "velocity_std", "self_position_std", "heading_std",
+                      "vision_range")
+
+
+@dataclass(frozen=True)
+class RobotSpawn:
+    """Where a robot starts; ``attack`` is +1 for a team attacking the goal at +x, -1 otherwise."""
+
+    name: str
+    x: float = 0.0
+    y: float = 0.0
+    theta: float = 0.0
+    attack: int = 1
+
+    def __post_init__(self) -> None:
+        if not self.name or not self.name.replace("_", "").isalnum():
+            raise ValueError(f"robot name must be alphanumeric, got {self.name!r}")
+        if self.attack not in (1, -1):
+            raise ValueError(f"attack must be 1 or -1, got {self.attack}")
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    field: FieldGeometry = dc_field(default_factory=FieldGeometry)
+    physics: PhysicsParams = dc_field(default_factory=PhysicsParams)
+    robot: RobotBody = dc_field(default_factory=RobotBody)
+    ball: BallBody = dc_field(default_factory=BallBody)
+    plugin: PluginParams = dc_field(default_factory=PluginParams)
+    noise: NoiseParams = dc_field(default_factory=NoiseParams)
+    robots: tuple[RobotSpawn, ...] = ()
+    ball_start: tuple[float, float] = (0.0, 0.0)  # [m]
+    ball_name: str = "football"
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        names = [r.name for r in self.robots]
+        if len(set(names)) != len(names):
+            raise ValueError(f"robot names must be unique, got {names}")
+        if self.ball_name in names:
+            raise ValueError(f"ball name {self.ball_name!r} clashes with a robot name")
+
+
+@dataclass(frozen=True)
+class SimNodeParams:
+    """Parameters of the simulator node: the world plus how it runs and publishes."""
+
+    sim: SimConfig = dc_field(default_factory=SimConfig)
+    real_time_factor: float = 1.0  # sim seconds per wall second; 0 runs as fast as possible
+    model_states_rate: float = 100.0  # /sim_visual/model_states [Hz, sim time]
+    vision_rate: float = 30.0  # /<robot>/omnivision/OmniVisionInfo [Hz, sim time]
+    clock_rate: float = 1000.0  # /clock at most this often [Hz, sim time]; at least once a step
+
+    def __post_init__(self) -> None:
+        _non_negative(self, "real_time_factor")
+        _positive(self, "model_states_rate", "vision_rate", "clock_rate")

@@ -1,0 +1,118 @@
+"""The model plugin's rules, as pure functions (chapter 5.2 and Table 3).
+
+Provides: ``clamp_command`` (body-frame velocity limits, NaN/inf rejected),
+``dribble_condition``, ``held_ball_position``, ``ground_pass_velocity``,
+``lob_velocity`` and ``ballistic_landing`` (where a lob comes down). Inputs and
+outputs are world-frame, SI units.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from nubot_common.field import FieldGeometry
+from nubot_common.geometry import Pose2D, rotate
+from sim_visual import SimVisualError
+from sim_visual.params import PluginParams
+
+GROUND_PASS = -1
+LOB_SHOT = 1
+
+
+@dataclass(frozen=True)
+class VelocityCommand:
+    """A body-frame velocity command: forward, leftward [m/s], counter-clockwise [rad/s]."""
+
+    vx: float = 0.0
+    vy: float = 0.0
+    w: float = 0.0
+
+
+def clamp_command(vx: float, vy: float, w: float, params: PluginParams) -> tuple[VelocityCommand, bool]:
+    """Limit a command to the robot's speeds; return it and whether it had to be clamped.
+
+    Raises ``SimVisualError`` for NaN or infinite components, which are never applied.
+    """
+    if not all(math.isfinite(v) for v in (vx, vy, w)):
+        raise SimVisualError(f"velocity command must be finite, got Vx={vx} Vy={vy} w={w}")
+    clamped = False
+    speed = math.hypot(vx, vy)
+    if speed > params.max_linear_speed:
+        scale = params.max_linear_speed / speed
+        vx, vy, clamped = vx * scale, vy * scale, True
+    if abs(w) > params.max_angular_speed:
+        w, clamped = math.copysign(params.max_angular_speed, w), True
+    return VelocityCommand(vx, vy, w), clamped
+
+
+def dribble_condition(robot: Pose2D, ball_x: float, ball_y: float, ball_z: float,
+                      ball_radius: float, params: PluginParams) -> bool:
+    """True when the ball is near enough, low enough and in front enough to be held."""
+    if ball_z > 2.0 * ball_radius:
+        return False
+    if robot.distance_to(ball_x, ball_y) > params.dribble_distance:
+        return False
+    return abs(robot.bearing_to(ball_x, ball_y)) <= params.dribble_half_angle
+
+
+def held_ball_position(robot: Pose2D, params: PluginParams) -> tuple[float, float]:
+    """Where a held ball sits: ``hold_distance`` ahead of the robot centre (method (a))."""
+    return robot.to_world(params.hold_distance, 0.0)
+
+
+def held_ball_velocity(robot: Pose2D, vx: float, vy: float, w: float, params: PluginParams) -> tuple[float, float]:
+    """World velocity of the held ball: the robot's velocity at the holding point."""
+    ox, oy = rotate(params.hold_distance, 0.0, robot.theta)
+    return vx - w * oy, vy + w * ox
+
+
+def ground_pass_velocity(heading: float, strength: float, params: PluginParams) -> tuple[float, float, float]:
+    """Initial ball velocity of a ground pass: ``strength`` [m/s] along the heading, in the field plane."""
+    if not math.isfinite(strength) or strength <= 0.0:
+        raise SimVisualError(f"ground pass strength must be a positive speed in m/s, got {strength}")
+    speed = min(float(strength), params.kick_max_speed)
+    return speed * math.cos(heading), speed * math.sin(heading), 0.0
+
+
+def lob_velocity(robot: Pose2D, ball_x: float, ball_y: float, attack: int, field: FieldGeometry,
+                 ball_radius: float, gravity: float, params: PluginParams) -> tuple[float, float, float]:
+    """Initial ball velocity of a lob shot along the robot heading, aimed to end in the attacked goal.
+
+    The ball flies along the heading to the goal line at ``attack * half_length``
+    and crosses it with its top ``lob_bar_margin`` below the bar. A robot that
+    does not face that goal line lobs ``lob_default_distance`` ahead, landing
+    on the ground.
+    """
+    g = -gravity
+    cx, cy = math.cos(robot.theta), math.sin(robot.theta)
+    line_x = attack * field.half_length
+    towards = cx * attack > 1e-3
+    if towards:
+        distance = (line_x - ball_x) / cx
+        target_height = field.goal_height - params.lob_bar_margin - ball_radius
+    if not towards or distance <= 0.5:
+        distance, target_height = params.lob_default_distance, ball_radius
+    horizontal = max(params.lob_horizontal_speed, distance / params.lob_max_flight_time)
+    flight = distance / horizontal
+    vz = (target_height - ball_radius + 0.5 * g * flight * flight) / flight
+    speed = math.hypot(horizontal, vz)
+    if speed > params.kick_max_speed:
+        scale = params.kick_max_speed / speed  # the kicker's limit wins; the lob falls short
+        horizontal, vz = horizontal * scale, vz * scale
+    return horizontal * cx, horizontal * cy, vz
+
+
+def ballistic_height_at(distance: float, horizontal_speed: float, vz: float, z0: float, gravity: float) -> float:
+    """Height [m] of a drag-free ball after travelling ``distance`` horizontally."""
+    t = distance / horizontal_speed
+    return z0 + vz * t + 0.5 * gravity * t * t
+
+
+def ballistic_landing(x: float, y: float, z: float, vx: float, vy: float, vz: float,
+                      ground_z: float, gravity: float) -> tuple[float, float, float]:
+    """Where and when (x, y, t) a drag-free ball starting at z comes down to ``ground_z``."""
+    a, b, c = 0.5 * gravity, vz, z - ground_z
+    disc = b * b - 4.0 * a * c
+    t = (-b - math.sqrt(max(disc, 0.0))) / (2.0 * a)
+    return x + vx * t, y + vy * t, t

@@ -1,0 +1,312 @@
+"""The simulator: physics world plus one model plugin per robot, stepped at a fixed rate.
+
+Requires: ``SimConfig``. Provides: ``Simulator`` with the robot interface of the
+chapter (``command_velocity``, ``ball_handle``, ``shoot``), Gazebo-like world
+services (``model_states``, ``set_model_state``, ``reset``, ``spawn_robot``,
+``delete_robot``), ``observe`` (noisy omni-vision frame of one robot) and ``step``
+which returns the events of that step (goals, kicks, captures). All randomness
+comes from one ``numpy.random.Generator`` seeded by ``SimConfig.seed``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from nubot_common.geometry import Pose2D, rotate
+from sim_visual import SimVisualError
+from sim_visual.params import NoiseParams, PluginParams, RobotSpawn, SimConfig
+from sim_visual.rules import (GROUND_PASS, LOB_SHOT, VelocityCommand, clamp_command, dribble_condition,
+                              ground_pass_velocity, held_ball_position, held_ball_velocity, lob_velocity)
+from sim_visual.sensing import OmniVisionFrame, observe
+from sim_visual.world import BallState, PhysicsWorld, RobotState
+
+_KICK_FLAG_TIME = 0.2  # RobotInfo.iskick stays true this long after a kick [s]
+_STUCK_MIN_COMMAND = 0.3  # commands slower than this never count as stuck [m/s]
+_LOB_LIFT = 0.01  # a lobbed ball starts this far above the carpet [m]
+
+
+@dataclass(frozen=True)
+class GoalScored:
+    time: float
+    side: int  # +1 goal at +x, -1 goal at -x (world frame)
+    ball: BallState
+    last_touch: str
+
+
+@dataclass(frozen=True)
+class BallKicked:
+    time: float
+    robot: str
+    kind: int  # GROUND_PASS or LOB_SHOT
+    velocity: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class BallCaptured:
+    time: float
+    robot: str
+
+
+@dataclass(frozen=True)
+class BallReleased:
+    time: float
+    robot: str
+
+
+SimEvent = GoalScored | BallKicked | BallCaptured | BallReleased
+
+
+@dataclass
+class RobotPlugin:
+    """Per-robot state of the model plugin."""
+
+    spawn: RobotSpawn
+    agent_id: int
+    command: VelocityCommand = VelocityCommand()
+    command_time: float = -math.inf
+    dribble_enabled: bool = False
+    no_capture_until: float = 0.0
+    slow_since: float | None = None
+    stuck: bool = False
+    kicked_at: float = -math.inf
+
+
+def agent_id_of(name: str) -> int:
+    """The robot's ID from the digits its name ends with (``nubot3`` -> 3), 0 if none."""
+    digits = ""
+    for ch in reversed(name):
+        if not ch.isdigit():
+            break
+        digits = ch + digits
+    return int(digits) if digits else 0
+
+
+class Simulator:
+    def __init__(self, config: SimConfig):
+        self.config = config
+        self.plugin_params: PluginParams = config.plugin
+        self.noise: NoiseParams = config.noise
+        self.rng = np.random.default_rng(config.seed)
+        self.time = 0.0
+        self.steps = 0
+        self.world = PhysicsWorld(config.field, config.physics, config.robot, config.ball)
+        self.plugins: dict[str, RobotPlugin] = {}
+        self.holder: str | None = None
+        self.last_touch = ""
+        self._goal_latched = False
+        for spawn in config.robots:
+            self.spawn_robot(spawn)
+        self._place_ball_start()
+
+    # --- models ---------------------------------------------------------------------
+    @property
+    def model_names(self) -> list[str]:
+        return [*self.plugins, self.config.ball_name]
+
+    def spawn_robot(self, spawn: RobotSpawn) -> None:
+        if spawn.name in self.plugins or spawn.name == self.config.ball_name:
+            raise SimVisualError(f"a model named {spawn.name!r} already exists")
+        self.world.add_robot(spawn.name, spawn.x, spawn.y, spawn.theta)
+        self.plugins[spawn.name] = RobotPlugin(spawn, agent_id_of(spawn.name))
+
+    def delete_robot(self, name: str) -> None:
+        self._plugin(name)
+        if self.holder == name:
+            self._release()
+        self.world.remove_robot(name)
+        del self.plugins[name]
+
+    def _plugin(self, name: str) -> RobotPlugin:
+        try:
+            return self.plugins[name]
+        except KeyError:
+            raise SimVisualError(f"no robot named {name!r}; robots: {', '.join(self.plugins) or 'none'}") from None
+
+    def _place_ball_start(self) -> None:
+        bx, by = self.config.ball_start
+        self.world.set_ball_state(BallState(bx, by, self.config.ball.radius, 0.0, 0.0, 0.0))
+
+    def reset(self) -> None:
+        """Put every robot and the ball back where they started, at rest; time keeps running."""
+        self._release()
+        for name, plugin in self.plugins.items():
+            s = plugin.spawn
+            self.world.set_robot_state(name, RobotState(s.x, s.y, s.theta, 0.0, 0.0, 0.0))
+            self.plugins[name] = RobotPlugin(s, plugin.agent_id)
+        self._place_ball_start()
+        self.last_touch = ""
+        self._goal_latched = False
+
+    def model_states(self) -> list[tuple[str, RobotState | BallState]]:
+        states: list[tuple[str, RobotState | BallState]] = [(n, self.world.robot_state(n)) for n in self.plugins]
+        states.append((self.config.ball_name, self.world.ball_state()))
+        return states
+
+    def set_model_state(self, name: str, state: RobotState | BallState) -> None:
+        if name == self.config.ball_name:
+            if not isinstance(state, BallState):
+                raise SimVisualError("the ball needs a BallState")
+            _require_finite(state.__dict__.values(), name)
+            self._release()
+            self.world.set_ball_state(state)
+            self._goal_latched = False
+            return
+        self._plugin(name)
+        if not isinstance(state, RobotState):
+            raise SimVisualError(f"robot {name!r} needs a RobotState")
+        _require_finite(state.__dict__.values(), name)
+        self.world.set_robot_state(name, state)
+
+    # --- the robot interface (Table 3) ------------------------------------------------------
+    def command_velocity(self, name: str, vx: float, vy: float, w: float) -> tuple[VelocityCommand, bool]:
+        """Set a robot's body-frame velocity command; returns it (clamped) and whether it was clamped."""
+        plugin = self._plugin(name)
+        command, clamped = clamp_command(vx, vy, w, self.plugin_params)
+        plugin.command, plugin.command_time = command, self.time
+        return command, clamped
+
+    def ball_handle(self, name: str, enable: int) -> bool:
+        """Enable (non-zero) or disable dribbling; return whether the robot now holds the ball."""
+        plugin = self._plugin(name)
+        plugin.dribble_enabled = enable != 0
+        if not plugin.dribble_enabled:
+            if self.holder == name:
+                self._release()
+            return False
+        self._try_capture(name)
+        return self.holder == name
+
+    def shoot(self, name: str, strength: float, shoot_pos: int) -> tuple[bool, BallKicked | None]:
+        """Kick the held ball: -1 ground pass at ``strength`` m/s, 1 lob at the attacked goal."""
+        plugin = self._plugin(name)
+        if shoot_pos not in (GROUND_PASS, LOB_SHOT):
+            raise SimVisualError(f"ShootPos must be -1 (ground pass) or 1 (lob), got {shoot_pos}")
+        if self.holder != name:
+            return False, None
+        robot = self.world.robot_state(name)
+        pose = Pose2D(robot.x, robot.y, robot.theta)
+        ball = self.world.ball_state()
+        if shoot_pos == GROUND_PASS:
+            velocity = ground_pass_velocity(robot.theta, strength, self.plugin_params)
+        else:
+            velocity = lob_velocity(pose, ball.x, ball.y, plugin.spawn.attack, self.config.field,
+                                    self.config.ball.radius, self.config.physics.gravity, self.plugin_params)
+        self._release()
+        plugin.dribble_enabled = False
+        plugin.no_capture_until = self.time + self.plugin_params.kick_recapture_delay
+        plugin.kicked_at = self.time
+        vx, vy, vz = velocity
+        r = self.config.ball.radius
+        if shoot_pos == GROUND_PASS:  # rolling from the start: no skid on the carpet
+            kicked = replace(ball, vx=vx, vy=vy, vz=vz, wx=-vy / r, wy=vx / r, wz=0.0)
+        else:  # leaves the carpet at once, so ground friction takes nothing from it
+            kicked = replace(ball, z=r + _LOB_LIFT, vx=vx, vy=vy, vz=vz, wx=0.0, wy=0.0, wz=0.0)
+        self.world.set_ball_state(kicked)
+        self.last_touch = name
+        return True, BallKicked(self.time, name, shoot_pos, velocity)
+
+    def update_params(self, plugin: PluginParams | None = None, noise: NoiseParams | None = None) -> None:
+        if plugin is not None:
+            self.plugin_params = plugin
+        if noise is not None:
+            self.noise = noise
+
+    # --- perception -------------------------------------------------------------------------
+    def observe(self, name: str) -> OmniVisionFrame:
+        plugin = self._plugin(name)
+        me = self.world.robot_state(name)
+        others = [self.world.robot_state(n) for n in self.plugins if n != name]
+        field, margin = self.config.field, self.config.field.border
+        flags = (field.is_inside(me.x, me.y, margin), plugin.stuck, self.holder == name,
+                 self.time - plugin.kicked_at < _KICK_FLAG_TIME)
+        return observe(self.time, me, plugin.spawn.attack, plugin.agent_id, flags, self.world.ball_state(),
+                       others, self.noise, self.rng)
+
+    # --- stepping -------------------------------------------------------------------------
+    def step(self) -> list[SimEvent]:
+        """Advance one physics step and return what happened in it."""
+        dt = self.config.physics.step_size
+        events: list[SimEvent] = []
+        params = self.plugin_params
+        for name, plugin in self.plugins.items():
+            command = plugin.command
+            if params.command_timeout > 0.0 and self.time - plugin.command_time > params.command_timeout:
+                command = VelocityCommand()
+            state = self.world.robot_state(name)
+            vx, vy = rotate(command.vx, command.vy, state.theta)
+            self.world.set_robot_velocity(name, vx, vy, command.w)
+            self._update_stuck(plugin, command, state)
+        self.world.set_ball_collides_with(self.holder)
+        touched = self.world.step(dt)
+        self.time = (self.steps + 1) * dt
+        self.steps += 1
+        if touched:
+            self.last_touch = sorted(touched)[0] if self.last_touch not in touched else self.last_touch
+        if self.holder is None:
+            for name, plugin in self.plugins.items():
+                if plugin.dribble_enabled and self._try_capture(name):
+                    events.append(BallCaptured(self.time, name))
+                    break
+        if self.holder is not None:
+            self._carry_ball(self.holder)
+        goal = self._detect_goal()
+        if goal is not None:
+            events.append(goal)
+        return events
+
+    def _update_stuck(self, plugin: RobotPlugin, command: VelocityCommand, state: RobotState) -> None:
+        wanted = math.hypot(command.vx, command.vy)
+        actual = math.hypot(state.vx, state.vy)
+        if wanted > _STUCK_MIN_COMMAND and actual < 0.5 * wanted:
+            if plugin.slow_since is None:
+                plugin.slow_since = self.time
+            plugin.stuck = self.time - plugin.slow_since >= self.plugin_params.stuck_time
+        else:
+            plugin.slow_since, plugin.stuck = None, False
+
+    def _try_capture(self, name: str) -> bool:
+        if self.holder is not None:
+            return self.holder == name
+        plugin = self.plugins[name]
+        if self.time < plugin.no_capture_until:
+            return False
+        robot, ball = self.world.robot_state(name), self.world.ball_state()
+        pose = Pose2D(robot.x, robot.y, robot.theta)
+        if not dribble_condition(pose, ball.x, ball.y, ball.z, self.config.ball.radius, self.plugin_params):
+            return False
+        self.holder = name
+        self.last_touch = name
+        self._carry_ball(name)
+        return True
+
+    def _carry_ball(self, name: str) -> None:
+        robot = self.world.robot_state(name)
+        pose = Pose2D(robot.x, robot.y, robot.theta)
+        x, y = held_ball_position(pose, self.plugin_params)
+        vx, vy = held_ball_velocity(pose, robot.vx, robot.vy, robot.w, self.plugin_params)
+        self.world.set_ball_state(BallState(x, y, self.config.ball.radius, vx, vy, 0.0))
+
+    def _release(self) -> None:
+        self.holder = None
+        self.world.set_ball_collides_with(None)
+
+    def _detect_goal(self) -> GoalScored | None:
+        ball, field, r = self.world.ball_state(), self.config.field, self.config.ball.radius
+        beyond = abs(ball.x) > field.half_length + r
+        if not beyond:
+            if abs(ball.x) < field.half_length:
+                self._goal_latched = False
+            return None
+        if self._goal_latched or not field.is_in_goal_mouth(ball.y, ball.z, r):
+            self._goal_latched = True
+            return None
+        self._goal_latched = True
+        return GoalScored(self.time, 1 if ball.x > 0 else -1, ball, self.last_touch)
+
+
+def _require_finite(values: object, name: str) -> None:
+    if not all(math.isfinite(v) for v in values):  # type: ignore[attr-defined]
+        raise SimVisualError(f"state for {name!r} must be finite")

@@ -1,0 +1,280 @@
+"""The physics layer: an ODE world with the field, two goals, the ball and robot cylinders.
+
+Requires: ``python3-pyode``. Provides: ``PhysicsWorld`` (add/remove robots, set
+robot velocities, read and set model states, ``step``) and the plain state
+records ``RobotState`` and ``BallState`` (world frame, SI units). Robots are
+driven kinematically in the plane (their body velocity is set every step, as
+Gazebo's SetLinearVel/SetAngularVel) but collide dynamically; the ball is a free
+sphere with rolling resistance. Contact properties come from one surface table.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import ode
+
+from nubot_common.field import FieldGeometry
+from nubot_common.geometry import quaternion_to_yaw, yaw_to_quaternion
+from sim_visual import SimVisualError
+from sim_visual.params import BallBody, PhysicsParams, RobotBody
+
+_WALL_HEIGHT = 3.0  # arena walls keep lobs inside [m]
+_NET_THICKNESS = 0.02  # [m]
+_BOUNCE_MIN_SPEED = 0.3  # slower impacts do not bounce [m/s]
+_ON_GROUND_TOLERANCE = 0.01  # [m]
+
+
+@dataclass(frozen=True)
+class RobotState:
+    """A robot in the world frame: position [m], heading [rad], velocity [m/s], [rad/s]."""
+
+    x: float
+    y: float
+    theta: float
+    vx: float
+    vy: float
+    w: float
+
+
+@dataclass(frozen=True)
+class BallState:
+    """The ball centre [m] and velocity [m/s] in the world frame, spin [rad/s]."""
+
+    x: float
+    y: float
+    z: float
+    vx: float
+    vy: float
+    vz: float
+    wx: float = 0.0
+    wy: float = 0.0
+    wz: float = 0.0
+
+
+class PhysicsWorld:
+    """ODE world of one MSL field. Not thread-safe: one caller steps and edits it."""
+
+    def __init__(self, field: FieldGeometry, physics: PhysicsParams, robot: RobotBody, ball: BallBody):
+        self.field = field
+        self.physics = physics
+        self.robot_body = robot
+        self.ball_body = ball
+        self._world = ode.World()
+        self._world.setGravity((0.0, 0.0, physics.gravity))
+        self._world.setERP(0.2)
+        self._world.setCFM(1e-5)
+        self._space = ode.HashSpace()
+        self._contacts = ode.JointGroup()
+        self._kind: dict[ode.GeomObject, str] = {}
+        self._robots: dict[str, tuple[ode.Body, ode.GeomObject]] = {}
+        self._robot_of_geom: dict[ode.GeomObject, str] = {}
+        self._touched: set[str] = set()
+        self._ball_holder: str | None = None
+        self._static: list[ode.GeomObject] = []
+        self._build_field()
+        self._ball = ode.Body(self._world)
+        mass = ode.Mass()
+        mass.setSphereTotal(ball.mass, ball.radius)
+        self._ball.setMass(mass)
+        self._ball_geom = ode.GeomSphere(self._space, ball.radius)
+        self._ball_geom.setBody(self._ball)
+        self._kind[self._ball_geom] = "ball"
+        self.set_ball_state(BallState(0.0, 0.0, ball.radius, 0.0, 0.0, 0.0))
+
+    # --- construction -------------------------------------------------------------
+    def _static_box(self, kind: str, size: tuple[float, float, float], centre: tuple[float, float, float]) -> None:
+        geom = ode.GeomBox(self._space, size)
+        geom.setPosition(centre)
+        self._kind[geom] = kind
+        self._static.append(geom)
+
+    def _build_field(self) -> None:
+        f = self.field
+        ground = ode.GeomPlane(self._space, (0.0, 0.0, 1.0), 0.0)
+        self._kind[ground] = "ground"
+        self._static.append(ground)
+        for side in (-1, 1):
+            for px, py in f.goal_posts(side):
+                post = ode.GeomCylinder(self._space, f.post_radius, f.goal_height)
+                post.setPosition((px, py, f.goal_height / 2.0))
+                self._kind[post] = "post"
+                self._static.append(post)
+            outer_y = f.goal_width / 2.0 + 2.0 * f.post_radius
+            bar_x = side * (f.half_length + f.post_radius)
+            self._static_box("post", (2 * f.post_radius, 2 * outer_y, 2 * f.post_radius),
+                             (bar_x, 0.0, f.goal_height + f.post_radius))
+            back_x = side * (f.half_length + f.goal_depth + _NET_THICKNESS / 2.0)
+            self._static_box("net", (_NET_THICKNESS, 2 * outer_y, f.goal_height), (back_x, 0.0, f.goal_height / 2.0))
+            mid_x = side * (f.half_length + f.goal_depth / 2.0)
+            for sy in (-1, 1):
+                self._static_box("net", (f.goal_depth, _NET_THICKNESS, f.goal_height),
+                                 (mid_x, sy * (outer_y + _NET_THICKNESS / 2.0), f.goal_height / 2.0))
+            self._static_box("net", (f.goal_depth, 2 * outer_y, _NET_THICKNESS),
+                             (mid_x, 0.0, f.goal_height + _NET_THICKNESS / 2.0))
+        ax, ay = f.half_length + f.border, f.half_width + f.border
+        for sx in (-1, 1):
+            self._static_box("wall", (0.2, 2 * ay + 0.4, _WALL_HEIGHT), (sx * (ax + 0.1), 0.0, _WALL_HEIGHT / 2))
+        for sy in (-1, 1):
+            self._static_box("wall", (2 * ax + 0.4, 0.2, _WALL_HEIGHT), (0.0, sy * (ay + 0.1), _WALL_HEIGHT / 2))
+
+    # --- robots ---------------------------------------------------------------------
+    @property
+    def robot_names(self) -> list[str]:
+        return list(self._robots)
+
+    def add_robot(self, name: str, x: float, y: float, theta: float) -> None:
+        if name in self._robots:
+            raise SimVisualError(f"a model named {name!r} already exists")
+        rb = self.robot_body
+        body = ode.Body(self._world)
+        mass = ode.Mass()
+        # Roll and pitch are pinned every step; only I_zz matters (Table 1).
+        mass.setParameters(rb.mass, 0.0, 0.0, 0.0, rb.inertia_zz, rb.inertia_zz, rb.inertia_zz, 0.0, 0.0, 0.0)
+        body.setMass(mass)
+        body.setGravityMode(False)
+        holder = ode.GeomTransform(self._space)
+        cylinder = ode.GeomCylinder(None, rb.radius, rb.height)
+        holder.setGeom(cylinder)
+        cylinder.setPosition((0.0, 0.0, rb.height / 2.0))
+        holder.setBody(body)
+        self._kind[holder] = "robot"
+        self._robot_of_geom[holder] = name
+        self._robots[name] = (body, holder)
+        self.set_robot_state(name, RobotState(x, y, theta, 0.0, 0.0, 0.0))
+
+    def remove_robot(self, name: str) -> None:
+        body, holder = self._robot(name)
+        self._space.remove(holder)
+        del self._kind[holder], self._robot_of_geom[holder], self._robots[name]
+        body.disable()
+
+    def _robot(self, name: str) -> tuple[ode.Body, ode.GeomObject]:
+        try:
+            return self._robots[name]
+        except KeyError:
+            raise SimVisualError(f"no robot named {name!r}; robots: {', '.join(self._robots) or 'none'}") from None
+
+    def robot_state(self, name: str) -> RobotState:
+        body, _ = self._robot(name)
+        x, y, _z = body.getPosition()
+        vx, vy, _vz = body.getLinearVel()
+        return RobotState(x, y, quaternion_to_yaw(*_xyzw(body.getQuaternion())), vx, vy, body.getAngularVel()[2])
+
+    def set_robot_state(self, name: str, state: RobotState) -> None:
+        body, _ = self._robot(name)
+        body.setPosition((state.x, state.y, 0.0))
+        body.setQuaternion(_wxyz(yaw_to_quaternion(state.theta)))
+        body.setLinearVel((state.vx, state.vy, 0.0))
+        body.setAngularVel((0.0, 0.0, state.w))
+
+    def set_robot_velocity(self, name: str, vx: float, vy: float, w: float) -> None:
+        """Drive a robot with a world-frame velocity [m/s] and yaw rate [rad/s]."""
+        body, _ = self._robot(name)
+        body.setLinearVel((vx, vy, 0.0))
+        body.setAngularVel((0.0, 0.0, w))
+
+    # --- ball -------------------------------------------------------------------------
+    def ball_state(self) -> BallState:
+        x, y, z = self._ball.getPosition()
+        vx, vy, vz = self._ball.getLinearVel()
+        wx, wy, wz = self._ball.getAngularVel()
+        return BallState(x, y, z, vx, vy, vz, wx, wy, wz)
+
+    def set_ball_state(self, state: BallState) -> None:
+        self._ball.setPosition((state.x, state.y, max(state.z, self.ball_body.radius)))
+        self._ball.setLinearVel((state.vx, state.vy, state.vz))
+        self._ball.setAngularVel((state.wx, state.wy, state.wz))
+        self._ball.setQuaternion((1.0, 0.0, 0.0, 0.0))
+
+    def ball_on_ground(self) -> bool:
+        z = self._ball.getPosition()[2]
+        return z <= self.ball_body.radius + _ON_GROUND_TOLERANCE and abs(self._ball.getLinearVel()[2]) < _BOUNCE_MIN_SPEED
+
+    def set_ball_collides_with(self, name: str | None) -> None:
+        """Ignore ball contacts with the robot ``name`` (the one holding it), or none."""
+        self._ball_holder = name
+
+    # --- stepping -----------------------------------------------------------------------
+    def step(self, dt: float) -> set[str]:
+        """Advance the world by ``dt`` seconds; return the robots that touched the ball."""
+        self._touched = set()
+        self._space.collide(None, self._near)
+        self._world.quickStep(dt)
+        self._contacts.empty()
+        self._pin_robots_to_plane()
+        self._apply_rolling_resistance(dt)
+        return self._touched
+
+    def _near(self, _args: object, geom_a: ode.GeomObject, geom_b: ode.GeomObject) -> None:
+        kind_a, kind_b = self._kind.get(geom_a), self._kind.get(geom_b)
+        if kind_a is None or kind_b is None:
+            return
+        pair = frozenset((kind_a, kind_b))
+        if "ground" in pair and "robot" in pair or kind_a != "ball" and kind_b != "ball" and "robot" not in pair:
+            return  # robots glide above the carpet; static geometry never collides with itself
+        if "ball" in pair and "robot" in pair:
+            robot_geom = geom_a if kind_a == "robot" else geom_b
+            name = self._robot_of_geom[robot_geom]
+            if name == self._ball_holder:
+                return
+        contacts = ode.collide(geom_a, geom_b)
+        if not contacts:
+            return
+        mu, bounce = self._surface(pair)
+        for contact in contacts:
+            contact.setMu(mu)
+            if bounce > 0.0:
+                contact.setBounce(bounce)
+                contact.setBounceVel(_BOUNCE_MIN_SPEED)
+            joint = ode.ContactJoint(self._world, self._contacts, contact)
+            joint.attach(geom_a.getBody(), geom_b.getBody())
+        if "ball" in pair and "robot" in pair:
+            self._touched.add(self._robot_of_geom[geom_a if kind_a == "robot" else geom_b])
+
+    def _surface(self, pair: frozenset[str]) -> tuple[float, float]:
+        """Friction coefficient and restitution of a contact between two kinds of geometry."""
+        ball, robot = self.ball_body, self.robot_body
+        if pair == {"ball", "ground"}:
+            return ball.ground_friction, ball.restitution
+        if pair == {"ball", "net"}:
+            return 0.5, ball.net_restitution
+        if "ball" in pair:  # robots, posts, walls
+            return robot.friction, ball.restitution
+        return robot.friction, 0.0  # robot against robot, post, net or wall
+
+    def _pin_robots_to_plane(self) -> None:
+        for body, _ in self._robots.values():
+            x, y, _z = body.getPosition()
+            vx, vy, _vz = body.getLinearVel()
+            yaw = quaternion_to_yaw(*_xyzw(body.getQuaternion()))
+            body.setPosition((x, y, 0.0))
+            body.setQuaternion(_wxyz(yaw_to_quaternion(yaw)))
+            body.setLinearVel((vx, vy, 0.0))
+            body.setAngularVel((0.0, 0.0, body.getAngularVel()[2]))
+
+    def _apply_rolling_resistance(self, dt: float) -> None:
+        if not self.ball_on_ground():
+            return
+        vx, vy, vz = self._ball.getLinearVel()
+        speed = math.hypot(vx, vy)
+        decel = self.ball_body.rolling_friction * -self.physics.gravity
+        if speed <= decel * dt:
+            self._ball.setLinearVel((0.0, 0.0, vz))
+            self._ball.setAngularVel((0.0, 0.0, 0.0))
+            return
+        scale = (speed - decel * dt) / speed
+        wx, wy, wz = self._ball.getAngularVel()
+        self._ball.setLinearVel((vx * scale, vy * scale, vz))
+        self._ball.setAngularVel((wx * scale, wy * scale, wz * scale))
+
+
+def _xyzw(q_wxyz: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    w, x, y, z = q_wxyz
+    return x, y, z, w
+
+
+def _wxyz(q_xyzw: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    x, y, z, w = q_xyzw
+    return w, x, y, z
