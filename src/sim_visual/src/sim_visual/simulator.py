@@ -25,6 +25,7 @@ from sim_visual.world import BallState, PhysicsWorld, RobotState
 
 _KICK_FLAG_TIME = 0.2  # RobotInfo.iskick stays true this long after a kick [s]
 _STUCK_MIN_COMMAND = 0.3  # commands slower than this never count as stuck [m/s]
+_STUCK_FILTER_TIME = 0.2  # time constant of the ground-speed estimate [s]
 _LOB_LIFT = 0.01  # a lobbed ball starts this far above the carpet [m]
 
 
@@ -70,6 +71,8 @@ class RobotPlugin:
     dribble_enabled: bool = False
     no_capture_until: float = 0.0
     slow_since: float | None = None
+    last_position: tuple[float, float] | None = None
+    ground_velocity: tuple[float, float] = (0.0, 0.0)  # low-passed displacement rate [m/s]
     stuck: bool = False
     kicked_at: float = -math.inf
 
@@ -238,7 +241,7 @@ class Simulator:
             state = self.world.robot_state(name)
             vx, vy = rotate(command.vx, command.vy, state.theta)
             self.world.set_robot_velocity(name, vx, vy, command.w)
-            self._update_stuck(plugin, command, state)
+            self._update_stuck(plugin, command, state, dt)
         self.world.set_ball_collides_with(self.holder)
         touched = self.world.step(dt)
         self.time = (self.steps + 1) * dt
@@ -257,9 +260,18 @@ class Simulator:
             events.append(goal)
         return events
 
-    def _update_stuck(self, plugin: RobotPlugin, command: VelocityCommand, state: RobotState) -> None:
+    def _update_stuck(self, plugin: RobotPlugin, command: VelocityCommand, state: RobotState, dt: float) -> None:
+        # Displacement, not body velocity: a robot pressed against an obstacle keeps its commanded velocity.
+        last, plugin.last_position = plugin.last_position, (state.x, state.y)
+        if last is None:
+            return
+        gain = min(1.0, dt / _STUCK_FILTER_TIME)  # contacts make the position jitter from step to step
+        vx, vy = plugin.ground_velocity
+        vx += gain * ((state.x - last[0]) / dt - vx)
+        vy += gain * ((state.y - last[1]) / dt - vy)
+        plugin.ground_velocity = (vx, vy)
         wanted = math.hypot(command.vx, command.vy)
-        actual = math.hypot(state.vx, state.vy)
+        actual = math.hypot(vx, vy)
         if wanted > _STUCK_MIN_COMMAND and actual < 0.5 * wanted:
             if plugin.slow_since is None:
                 plugin.slow_since = self.time

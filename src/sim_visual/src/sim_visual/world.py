@@ -201,7 +201,7 @@ class PhysicsWorld:
         """Advance the world by ``dt`` seconds; return the robots that touched the ball."""
         self._touched = set()
         self._space.collide(None, self._near)
-        self._world.quickStep(dt)
+        self._world.step(dt)  # the exact solver: quickStep reorders constraints with a process-global RNG
         self._contacts.empty()
         self._pin_robots_to_plane()
         self._apply_rolling_resistance(dt)

@@ -1,0 +1,171 @@
+"""Fixtures for integration tests: a private roscore on a free port, an in-process test node,
+and the simulator launched with its real launch file."""
+
+from __future__ import annotations
+
+import math
+import os
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from nubot_common.geometry import quaternion_to_yaw
+from nubot_common.processes import RosMaster
+
+
+@pytest.fixture(scope="session")
+def ros_master(tmp_path_factory):
+    """A roscore on a free port, and this process registered with it as a (wall-time) node."""
+    with RosMaster(tmp_path_factory.mktemp("ros")) as master:
+        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        import rospy  # after ROS_MASTER_URI points at the private master
+
+        rospy.init_node("integration_tests", anonymous=True, disable_signals=True)
+        yield master
+        rospy.signal_shutdown("tests done")
+
+
+class SimClient:
+    """Watches the simulator's topics and wraps its services, in sim time."""
+
+    def __init__(self, robot: str = "nubot1"):
+        import rospy
+        from rosgraph_msgs.msg import Clock
+
+        from nubot_common.msg import GoalEvent, ModelStates, OmniVisionInfo, VelCmd
+
+        self.robot = robot
+        self.lock = threading.Lock()
+        self.clock = 0.0
+        self.states: dict[str, tuple] = {}
+        self.goals: list = []
+        self.vision: list = []
+        self.subs = [
+            rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=10),
+            rospy.Subscriber("/sim_visual/model_states", ModelStates, self._on_states, queue_size=10),
+            rospy.Subscriber("/sim_visual/goal", GoalEvent, self._on_goal, queue_size=10),
+            rospy.Subscriber(f"/{robot}/omnivision/OmniVisionInfo", OmniVisionInfo, self._on_vision, queue_size=100),
+        ]
+        self.cmd_pub = rospy.Publisher(f"/{robot}/nubotcontrol/velcmd", VelCmd, queue_size=1)
+
+    def close(self) -> None:
+        for sub in self.subs:
+            sub.unregister()
+        self.cmd_pub.unregister()
+
+    def _on_clock(self, msg) -> None:
+        self.clock = msg.clock.to_sec()
+
+    def _on_states(self, msg) -> None:
+        with self.lock:
+            for name, pose, twist in zip(msg.name, msg.pose, msg.twist):
+                p, o, v, w = pose.position, pose.orientation, twist.linear, twist.angular
+                self.states[name] = (p.x, p.y, p.z, quaternion_to_yaw(o.x, o.y, o.z, o.w), v.x, v.y, v.z, w.z)
+            self.states_clock = self.clock
+
+    def _on_goal(self, msg) -> None:
+        self.goals.append(msg)
+
+    def _on_vision(self, msg) -> None:
+        self.vision.append((self.clock, msg))
+
+    def state(self, name: str) -> tuple:
+        with self.lock:
+            return self.states[name]
+
+    def wait_for(self, predicate, timeout: float = 30.0, what: str = "condition"):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            value = predicate()
+            if value:
+                return value
+            time.sleep(0.01)
+        raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+    def wait_sim(self, seconds: float, command=None, rate: float = 33.0) -> None:
+        """Let ``seconds`` of sim time pass, publishing ``command`` (Vx, Vy, w) at ``rate`` Hz."""
+        from nubot_common.msg import VelCmd
+
+        end = self.clock + seconds
+        next_cmd = self.clock
+        while self.clock < end:
+            if command is not None and self.clock >= next_cmd:
+                self.cmd_pub.publish(VelCmd(*command))
+                next_cmd += 1.0 / rate
+            time.sleep(0.002)
+
+    def service(self, name: str, srv_type):
+        import rospy
+
+        rospy.wait_for_service(name, timeout=20.0)
+        return rospy.ServiceProxy(name, srv_type)
+
+    def set_model(self, name: str, x: float, y: float, yaw: float = 0.0, z: float = 0.0) -> None:
+        from nubot_common.msg import ModelState
+        from nubot_common.srv import SetModelState
+
+        state = ModelState(model_name=name, reference_frame="world")
+        state.pose.position.x, state.pose.position.y, state.pose.position.z = x, y, z
+        state.pose.orientation.z, state.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+        response = self.service("/sim_visual/set_model_state", SetModelState)(state)
+        assert response.success, response.status_message
+
+
+def launch_sim(master: RosMaster, name: str, *args: str):
+    process = master.launch(name, ["roslaunch", "sim_visual", "single_robot.launch", *args])
+    return process
+
+
+@pytest.fixture(scope="module")
+def sim_launch(ros_master):
+    """The single-robot world without the demo, at real time, noise-free perception off by default."""
+    process = launch_sim(ros_master, "single_robot", "demo:=false", "real_time_factor:=1.0")
+    client = SimClient()
+    try:
+        client.wait_for(lambda: "nubot1" in client.states and client.clock > 0.1, timeout=60,
+                        what="the simulator's first model states")
+    except AssertionError:
+        process.stop()
+        raise AssertionError(f"simulator did not start:\n{process.log_text()[-4000:]}") from None
+    yield process, client
+    client.close()
+    process.stop()
+    # Let the master forget the stopped nodes before the next module launches its own.
+    time.sleep(0.5)
+
+
+@pytest.fixture
+def sim(sim_launch):
+    """A freshly reset single-robot world: nubot1 at (-2, 0) facing +x, the ball at (1, 2)."""
+    from std_srvs.srv import Empty
+
+    process, client = sim_launch
+    assert process.alive(), process.log_text()[-4000:]
+    client.service("/sim_visual/reset_world", Empty)()
+    client.wait_sim(0.1)
+    client.goals.clear()
+    client.vision.clear()
+    return client
+
+
+LOG_DIR = Path(os.environ.get("ROS_LOG_DIR", "/tmp"))
+
+
+@pytest.fixture(scope="module")
+def demo_launch(ros_master):
+    """The single-robot world with the demo node, at real time; yields (process, client, states)."""
+    import rospy
+    from std_msgs.msg import String
+
+    states: list[tuple[float, str]] = []
+    client = SimClient()
+    sub = rospy.Subscriber("/nubot1/demo/state", String, lambda m: states.append((client.clock, m.data)),
+                           queue_size=50)
+    process = launch_sim(ros_master, "single_robot_demo", "demo:=true", "real_time_factor:=1.0")
+    yield process, client, states
+    sub.unregister()
+    client.close()
+    process.stop()
+    time.sleep(0.5)

@@ -1,0 +1,215 @@
+"""Unit tests of the simulator core: locomotion, dribbling, kicking, goals, physics, reset."""
+
+import math
+
+import pytest
+
+from sim_visual import SimVisualError
+from sim_visual.simulator import BallCaptured, BallKicked, GoalScored
+from sim_visual.world import BallState, RobotState
+
+
+def test_body_velocity_moves_the_robot_the_expected_distance(make_sim, run):
+    sim = make_sim(robots=(("nubot1", 0.0, 0.0, math.pi / 2),))
+    for _ in range(200):  # 1 s, commands faster than the 0.5 s timeout
+        sim.command_velocity("nubot1", 2.0, 0.0, 0.0)
+        run(sim, 0.005)
+    state = sim.world.robot_state("nubot1")
+    assert state.x == pytest.approx(0.0, abs=1e-6)
+    assert state.y == pytest.approx(2.0, abs=0.02), "Vx is along the robot heading (+y here)"
+
+
+def test_lateral_and_rotational_velocity(make_sim, run):
+    sim = make_sim()
+    sim.command_velocity("nubot1", 0.0, 1.0, 1.0)
+    run(sim, 0.5)
+    state = sim.world.robot_state("nubot1")
+    assert state.theta == pytest.approx(0.5, abs=0.01)
+    assert state.y > 0.45 and state.x < 0.0, "Vy is leftward in the body frame, which turns with the robot"
+
+
+def test_command_timeout_stops_a_robot_nobody_drives(make_sim, run):
+    sim = make_sim()
+    sim.command_velocity("nubot1", 1.0, 0.0, 0.0)
+    run(sim, 2.0)
+    assert sim.world.robot_state("nubot1").x == pytest.approx(0.5, abs=0.02)
+
+
+def test_robots_push_each_other_and_do_not_overlap(make_sim, run):
+    sim = make_sim(robots=(("nubot1", 0.0, 0.0, 0.0), ("nubot2", 1.0, 0.0, 0.0)))
+    for _ in range(300):
+        sim.command_velocity("nubot1", 2.0, 0.0, 0.0)
+        sim.command_velocity("nubot2", 0.0, 0.0, 0.0)
+        run(sim, 0.005)
+    a, b = sim.world.robot_state("nubot1"), sim.world.robot_state("nubot2")
+    assert b.x - a.x > 2 * sim.config.robot.radius - 0.05
+
+
+def test_ball_handle_refuses_a_far_ball_and_holds_a_near_one(make_sim, run):
+    sim = make_sim(ball=(2.0, 0.0))
+    assert sim.ball_handle("nubot1", 1) is False
+    sim.world.set_ball_state(BallState(0.45, 0.0, 0.11, 0, 0, 0))
+    assert sim.ball_handle("nubot1", 1) is True
+    assert sim.holder == "nubot1"
+
+
+def test_held_ball_follows_a_moving_turning_robot(make_sim, run):
+    sim = make_sim(ball=(0.45, 0.0))
+    assert sim.ball_handle("nubot1", 1)
+    for _ in range(400):
+        sim.command_velocity("nubot1", 1.0, 0.0, 1.5)
+        run(sim, 0.005)
+    robot, ball = sim.world.robot_state("nubot1"), sim.world.ball_state()
+    assert sim.holder == "nubot1"
+    ahead = (robot.x + 0.43 * math.cos(robot.theta), robot.y + 0.43 * math.sin(robot.theta))
+    assert (ball.x, ball.y) == pytest.approx(ahead, abs=1e-6)
+
+
+def test_enabled_dribbler_catches_a_ball_rolling_in(make_sim, run):
+    sim = make_sim(ball=(2.0, 0.0))
+    sim.ball_handle("nubot1", 1)
+    sim.world.set_ball_state(BallState(2.0, 0.0, 0.11, -3.0, 0.0, 0.0))
+    events = run(sim, 1.0)
+    assert any(isinstance(e, BallCaptured) and e.robot == "nubot1" for e in events)
+
+
+def test_release_lets_the_ball_go(make_sim, run):
+    sim = make_sim(ball=(0.45, 0.0))
+    sim.ball_handle("nubot1", 1)
+    assert sim.ball_handle("nubot1", 0) is False
+    sim.command_velocity("nubot1", -1.0, 0.0, 0.0)
+    run(sim, 0.4)
+    assert sim.holder is None
+    assert sim.world.ball_state().x == pytest.approx(0.45, abs=0.05)
+
+
+def test_shoot_without_the_ball_does_nothing(make_sim):
+    sim = make_sim(ball=(3.0, 0.0))
+    assert sim.shoot("nubot1", 5, -1) == (False, None)
+    assert sim.world.ball_state().vx == 0.0
+    with pytest.raises(SimVisualError, match="ShootPos must be -1"):
+        sim.shoot("nubot1", 5, 0)
+
+
+def test_ground_pass_starts_at_the_commanded_speed_and_rolls_to_a_stop(make_sim, run):
+    sim = make_sim(ball=(0.45, 0.0), robots=(("nubot1", 0.0, 0.0, math.pi / 2),))
+    sim.world.set_robot_state("nubot1", RobotState(0.0, 0.0, 0.0, 0, 0, 0))
+    sim.ball_handle("nubot1", 1)
+    done, event = sim.shoot("nubot1", 3, -1)
+    assert done and isinstance(event, BallKicked)
+    run(sim, 0.05)
+    ball = sim.world.ball_state()
+    assert math.hypot(ball.vx, ball.vy) == pytest.approx(3.0, abs=0.1)
+    assert ball.z == pytest.approx(0.11, abs=0.005), "a ground pass stays on the carpet"
+    run(sim, 10.0)
+    ball = sim.world.ball_state()
+    decel = sim.config.ball.rolling_friction * 9.8
+    assert math.hypot(ball.vx, ball.vy) < 0.01
+    assert ball.x - 0.45 == pytest.approx(9.0 / (2 * decel), rel=0.05), "rolling friction: v^2 / (2 mu g)"
+
+
+def test_lob_from_six_metres_scores(make_sim, run):
+    sim = make_sim(robots=(("nubot1", 2.57, 0.3, 0.0),), ball=(3.0, 0.3))
+    assert sim.ball_handle("nubot1", 1)
+    assert sim.shoot("nubot1", 0, 1)[0]
+    peak = 0.0
+    goals = []
+    for _ in range(600):
+        goals += [e for e in sim.step() if isinstance(e, GoalScored)]
+        peak = max(peak, sim.world.ball_state().z)
+    assert peak > 1.0, "a lob flies"
+    assert len(goals) == 1 and goals[0].side == 1 and goals[0].last_touch == "nubot1"
+    assert goals[0].ball.z < sim.config.field.goal_height
+
+
+def test_kicker_cannot_recatch_at_once(make_sim, run):
+    sim = make_sim(ball=(0.45, 0.0))
+    sim.ball_handle("nubot1", 1)
+    sim.shoot("nubot1", 1, -1)
+    sim.ball_handle("nubot1", 1)
+    run(sim, 0.1)
+    assert sim.holder is None
+
+
+def test_ball_rolling_wide_of_the_post_is_no_goal(make_sim, run):
+    sim = make_sim(ball=(7.0, 2.0))
+    sim.world.set_ball_state(BallState(7.0, 2.0, 0.11, 6.0, 0.0, 0.0, 0.0, 6.0 / 0.11, 0.0))
+    assert not [e for e in run(sim, 3.0) if isinstance(e, GoalScored)]
+
+
+def test_ball_over_the_bar_is_no_goal(make_sim, run):
+    sim = make_sim(ball=(7.0, 0.0))
+    sim.world.set_ball_state(BallState(8.0, 0.0, 1.5, 6.0, 0.0, 2.0))
+    assert not [e for e in run(sim, 3.0) if isinstance(e, GoalScored)]
+
+
+def test_ball_rolling_into_the_goal_scores_once_and_the_net_stops_it(make_sim, run):
+    sim = make_sim(ball=(7.0, 0.0), robots=())
+    sim.world.set_ball_state(BallState(-7.0, 0.5, 0.11, -6.0, 0.0, 0.0, 0.0, -6.0 / 0.11, 0.0))
+    goals = [e for e in run(sim, 4.0) if isinstance(e, GoalScored)]
+    assert [g.side for g in goals] == [-1]
+    ball = sim.world.ball_state()
+    assert -sim.config.field.half_length - sim.config.field.goal_depth < ball.x < -sim.config.field.half_length
+
+
+def test_ball_bounces_off_a_robot(make_sim, run):
+    sim = make_sim(ball=(-2.0, 0.0))
+    sim.world.set_ball_state(BallState(-2.0, 0.0, 0.11, 4.0, 0.0, 0.0, 0.0, 4.0 / 0.11, 0.0))
+    run(sim, 1.0)
+    assert sim.world.ball_state().vx < 0.0
+    assert sim.last_touch == "nubot1"
+
+
+def test_dropped_ball_bounces_and_settles(make_sim, run):
+    sim = make_sim(ball=(3.0, 3.0))
+    sim.world.set_ball_state(BallState(3.0, 3.0, 2.0, 0, 0, 0))
+    heights = []
+    for _ in range(800):
+        sim.step()
+        heights.append(sim.world.ball_state().z)
+    first_contact = next(i for i, z in enumerate(heights) if z < 0.12)
+    assert max(heights[first_contact:]) > 0.3, "it bounces"
+    assert heights[-1] == pytest.approx(0.11, abs=0.005), "then rests on the carpet"
+
+
+def test_reset_restores_the_initial_state(make_sim, run):
+    sim = make_sim(ball=(0.45, 0.0), robots=(("nubot1", -1.0, 0.5, 0.3),))
+    sim.world.set_robot_state("nubot1", RobotState(0.0, 0.0, 0.0, 0, 0, 0))
+    sim.ball_handle("nubot1", 1)
+    sim.command_velocity("nubot1", 2.0, 1.0, 1.0)
+    run(sim, 1.0)
+    sim.reset()
+    assert sim.holder is None
+    state = sim.world.robot_state("nubot1")
+    assert (state.x, state.y, state.theta, state.vx, state.vy, state.w) == pytest.approx((-1.0, 0.5, 0.3, 0, 0, 0))
+    ball = sim.world.ball_state()
+    assert (ball.x, ball.y, ball.vx, ball.vy) == pytest.approx((0.45, 0.0, 0.0, 0.0))
+    run(sim, 0.5)
+    assert sim.world.robot_state("nubot1").x == pytest.approx(-1.0, abs=1e-6), "old commands are gone"
+
+
+def test_unknown_robot_and_bad_state_are_refused(make_sim):
+    sim = make_sim()
+    with pytest.raises(SimVisualError, match="no robot named 'nubot7'"):
+        sim.command_velocity("nubot7", 1, 0, 0)
+    with pytest.raises(SimVisualError, match="must be finite"):
+        sim.set_model_state("nubot1", RobotState(math.nan, 0, 0, 0, 0, 0))
+
+
+def test_spawn_and_delete_robots(make_sim):
+    sim = make_sim()
+    from sim_visual.params import RobotSpawn
+    sim.spawn_robot(RobotSpawn("rival1", 3.0, 0.0, math.pi, -1))
+    assert sim.model_names == ["nubot1", "rival1", "football"]
+    with pytest.raises(SimVisualError, match="already exists"):
+        sim.spawn_robot(RobotSpawn("rival1"))
+    sim.delete_robot("rival1")
+    assert sim.model_names == ["nubot1", "football"]
+
+
+def test_stuck_robot_is_flagged(make_sim, run):
+    sim = make_sim(robots=(("nubot1", 8.5, 0.0, 0.0),))
+    for _ in range(400):
+        sim.command_velocity("nubot1", 2.0, 0.0, 0.0)  # into the goal post/net
+        sim.step()
+    assert sim.observe("nubot1").robot.is_stuck
