@@ -52,7 +52,7 @@ class BallBody:
     rolling_friction: float = 0.06  # rolling deceleration = rolling_friction * g
     ground_friction: float = 0.4  # sliding friction against the carpet
     restitution: float = 0.5  # bounce off the ground, robots and posts
-    net_restitution: float = 0.1  # bounce off the goal nets
+    net_restitution: float = 0.3  # share of the ball's motion a goal net keeps per step of contact
 
     def __post_init__(self) -> None:
         _positive(self, "mass", "radius")

@@ -72,6 +72,7 @@ class PhysicsWorld:
         self._robot_of_geom: dict[ode.GeomObject, str] = {}
         self._touched: set[str] = set()
         self._ball_holder: str | None = None
+        self._ball_in_net = False
         self._static: list[ode.GeomObject] = []
         self._build_field()
         self._ball = ode.Body(self._world)
@@ -200,10 +201,13 @@ class PhysicsWorld:
     def step(self, dt: float) -> set[str]:
         """Advance the world by ``dt`` seconds; return the robots that touched the ball."""
         self._touched = set()
+        self._ball_in_net = False
         self._space.collide(None, self._near)
         self._world.step(dt)  # the exact solver: quickStep reorders constraints with a process-global RNG
         self._contacts.empty()
         self._pin_robots_to_plane()
+        if self._ball_in_net:
+            self._absorb_in_net()
         self._apply_rolling_resistance(dt)
         return self._touched
 
@@ -230,6 +234,8 @@ class PhysicsWorld:
                 contact.setBounceVel(_BOUNCE_MIN_SPEED)
             joint = ode.ContactJoint(self._world, self._contacts, contact)
             joint.attach(geom_a.getBody(), geom_b.getBody())
+        if pair == {"ball", "net"}:
+            self._ball_in_net = True
         if "ball" in pair and "robot" in pair:
             self._touched.add(self._robot_of_geom[geom_a if kind_a == "robot" else geom_b])
 
@@ -239,7 +245,7 @@ class PhysicsWorld:
         if pair == {"ball", "ground"}:
             return ball.ground_friction, ball.restitution
         if pair == {"ball", "net"}:
-            return 0.5, ball.net_restitution
+            return 1.0, 0.0
         if "ball" in pair:  # robots, posts, walls
             return robot.friction, ball.restitution
         return robot.friction, 0.0  # robot against robot, post, net or wall
@@ -253,6 +259,17 @@ class PhysicsWorld:
             body.setQuaternion(_wxyz(yaw_to_quaternion(yaw)))
             body.setLinearVel((vx, vy, 0.0))
             body.setAngularVel((0.0, 0.0, body.getAngularVel()[2]))
+
+    def _absorb_in_net(self) -> None:
+        """A net gives way and swallows a shot: each step of contact keeps net_restitution of the horizontal motion.
+
+        The vertical motion is left alone so that the ball drops down the net instead of clinging to it.
+        """
+        keep = self.ball_body.net_restitution
+        vx, vy, vz = self._ball.getLinearVel()
+        wx, wy, wz = self._ball.getAngularVel()
+        self._ball.setLinearVel((vx * keep, vy * keep, vz))
+        self._ball.setAngularVel((wx * keep, wy * keep, wz * keep))
 
     def _apply_rolling_resistance(self, dt: float) -> None:
         if not self.ball_on_ground():

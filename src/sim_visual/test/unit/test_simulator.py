@@ -213,3 +213,13 @@ def test_stuck_robot_is_flagged(make_sim, run):
         sim.command_velocity("nubot1", 2.0, 0.0, 0.0)  # into the goal post/net
         sim.step()
     assert sim.observe("nubot1").robot.is_stuck
+
+
+@pytest.mark.parametrize("speed", [4.0, 8.0, 12.0])
+def test_the_net_swallows_a_hard_shot(make_sim, run, speed):
+    sim = make_sim(ball=(6.0, 0.3), robots=())
+    sim.world.set_ball_state(BallState(6.0, 0.3, 0.11, speed, 0.0, 0.0, 0.0, speed / 0.11, 0.0))
+    run(sim, 6.0)
+    ball, field = sim.world.ball_state(), sim.config.field
+    assert field.half_length < ball.x < field.half_length + field.goal_depth, "the ball stays in the goal"
+    assert ball.z == pytest.approx(0.11, abs=0.01), "and drops to the ground instead of clinging to the net"
