@@ -34,7 +34,7 @@ class SimClient:
         import rospy
         from rosgraph_msgs.msg import Clock
 
-        from nubot_common.msg import GoalEvent, ModelStates, OmniVisionInfo, VelCmd
+        from nubot_common.msg import GoalEvent, ModelStates, OmniVisionInfo
 
         self.robot = robot
         self.lock = threading.Lock()
@@ -48,12 +48,13 @@ class SimClient:
             rospy.Subscriber("/sim_visual/goal", GoalEvent, self._on_goal, queue_size=10),
             rospy.Subscriber(f"/{robot}/omnivision/OmniVisionInfo", OmniVisionInfo, self._on_vision, queue_size=100),
         ]
-        self.cmd_pub = rospy.Publisher(f"/{robot}/nubotcontrol/velcmd", VelCmd, queue_size=1)
+        self.cmd_pub = None  # created on first use: the demo's world must have one velcmd producer
 
     def close(self) -> None:
         for sub in self.subs:
             sub.unregister()
-        self.cmd_pub.unregister()
+        if self.cmd_pub is not None:
+            self.cmd_pub.unregister()
 
     def _on_clock(self, msg) -> None:
         self.clock = msg.clock.to_sec()
@@ -86,8 +87,13 @@ class SimClient:
 
     def wait_sim(self, seconds: float, command=None, rate: float = 33.0) -> None:
         """Let ``seconds`` of sim time pass, publishing ``command`` (Vx, Vy, w) at ``rate`` Hz."""
+        import rospy
+
         from nubot_common.msg import VelCmd
 
+        if command is not None and self.cmd_pub is None:
+            self.cmd_pub = rospy.Publisher(f"/{self.robot}/nubotcontrol/velcmd", VelCmd, queue_size=1)
+            time.sleep(0.3)  # let the simulator connect before the first command
         end = self.clock + seconds
         next_cmd = self.clock
         while self.clock < end:
