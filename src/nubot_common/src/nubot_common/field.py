@@ -40,7 +40,7 @@ class FieldGeometry:
             raise ValueError("the penalty area must fit inside one half of the field")
 
     @classmethod
-    def msl_current(cls) -> "FieldGeometry":
+    def msl_current(cls) -> FieldGeometry:
         """The 22 x 14 m field of the current MSL rules."""
         return cls(length=22.0, width=14.0, penalty_area_length=2.25, penalty_area_width=6.5,
                    penalty_mark_distance=3.6)

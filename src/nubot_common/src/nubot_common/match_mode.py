@@ -36,7 +36,7 @@ class MatchMode(IntEnum):
         """True for the restarts that place the team before play resumes."""
         return 1 <= self.value <= 13
 
-    def mirrored(self) -> "MatchMode":
+    def mirrored(self) -> MatchMode:
         """The same command as the other team must receive it (OUR_x <-> OPP_x)."""
         if 1 <= self.value <= 12:
             return MatchMode(self.value + 1 if self.value % 2 else self.value - 1)

@@ -14,8 +14,9 @@ import socket
 import subprocess
 import time
 import xmlrpc.client
+from collections.abc import Sequence
 from pathlib import Path
-from typing import IO, Sequence
+from typing import IO
 
 DEFAULT_MASTER_PORT = 11311
 
@@ -78,7 +79,7 @@ class RosMaster:
         self.children: list[Launched] = []
         self.core: Launched | None = None
 
-    def __enter__(self) -> "RosMaster":
+    def __enter__(self) -> RosMaster:
         self.core = Launched(["roscore", "-p", str(self.port)], self.env, self.log_dir / "roscore.log")
         self.wait_until_up()
         return self

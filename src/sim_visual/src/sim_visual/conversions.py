@@ -11,8 +11,17 @@ import genpy
 from geometry_msgs.msg import Pose, Twist
 
 from nubot_common.geometry import quaternion_to_yaw, yaw_to_quaternion
-from nubot_common.msg import (BallInfo, GoalEvent, ModelStates, ObstaclesInfo, OmniVisionInfo, Point2d,
-                              Point3d, PPoint, RobotInfo)
+from nubot_common.msg import (
+    BallInfo,
+    GoalEvent,
+    ModelStates,
+    ObstaclesInfo,
+    OmniVisionInfo,
+    Point2d,
+    Point3d,
+    PPoint,
+    RobotInfo,
+)
 from sim_visual import SimVisualError
 from sim_visual.sensing import OmniVisionFrame
 from sim_visual.simulator import GoalScored

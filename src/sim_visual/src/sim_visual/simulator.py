@@ -18,8 +18,17 @@ import numpy as np
 from nubot_common.geometry import Pose2D, rotate
 from sim_visual import SimVisualError
 from sim_visual.params import NoiseParams, PluginParams, RobotSpawn, SimConfig
-from sim_visual.rules import (GROUND_PASS, LOB_SHOT, VelocityCommand, clamp_command, dribble_condition,
-                              ground_pass_velocity, held_ball_position, held_ball_velocity, lob_velocity)
+from sim_visual.rules import (
+    GROUND_PASS,
+    LOB_SHOT,
+    VelocityCommand,
+    clamp_command,
+    dribble_condition,
+    ground_pass_velocity,
+    held_ball_position,
+    held_ball_velocity,
+    lob_velocity,
+)
 from sim_visual.sensing import OmniVisionFrame, observe
 from sim_visual.world import BallState, PhysicsWorld, RobotState
 

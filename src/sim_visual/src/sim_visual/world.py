@@ -190,8 +190,8 @@ class PhysicsWorld:
         self._ball.setQuaternion((1.0, 0.0, 0.0, 0.0))
 
     def ball_on_ground(self) -> bool:
-        z = self._ball.getPosition()[2]
-        return z <= self.ball_body.radius + _ON_GROUND_TOLERANCE and abs(self._ball.getLinearVel()[2]) < _BOUNCE_MIN_SPEED
+        low = self._ball.getPosition()[2] <= self.ball_body.radius + _ON_GROUND_TOLERANCE
+        return low and abs(self._ball.getLinearVel()[2]) < _BOUNCE_MIN_SPEED
 
     def set_ball_collides_with(self, name: str | None) -> None:
         """Ignore ball contacts with the robot ``name`` (the one holding it), or none."""

@@ -8,8 +8,16 @@ from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D
 from sim_visual import SimVisualError
 from sim_visual.params import PluginParams
-from sim_visual.rules import (ballistic_height_at, ballistic_landing, clamp_command, dribble_condition,
-                              ground_pass_velocity, held_ball_position, held_ball_velocity, lob_velocity)
+from sim_visual.rules import (
+    ballistic_height_at,
+    ballistic_landing,
+    clamp_command,
+    dribble_condition,
+    ground_pass_velocity,
+    held_ball_position,
+    held_ball_velocity,
+    lob_velocity,
+)
 
 P = PluginParams()
 R = 0.11
