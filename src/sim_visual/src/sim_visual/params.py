@@ -168,6 +168,7 @@ class SimNodeParams:
     model_states_rate: float = 100.0  # /sim_visual/model_states [Hz, sim time]
     vision_rate: float = 30.0  # /<robot>/omnivision/OmniVisionInfo [Hz, sim time]
     clock_rate: float = 1000.0  # /clock at most this often [Hz, sim time]; at least once a step
+    gui: bool = False  # no viewer exists yet: true only warns and runs headless
 
     def __post_init__(self) -> None:
         _non_negative(self, "real_time_factor")

@@ -223,3 +223,21 @@ def test_the_net_swallows_a_hard_shot(make_sim, run, speed):
     ball, field = sim.world.ball_state(), sim.config.field
     assert field.half_length < ball.x < field.half_length + field.goal_depth, "the ball stays in the goal"
     assert ball.z == pytest.approx(0.11, abs=0.01), "and drops to the ground instead of clinging to the net"
+
+
+def test_ball_bounces_off_a_goal_post(make_sim, run):
+    sim = make_sim(robots=())
+    (px, py), _ = sim.config.field.goal_posts(1)
+    sim.world.set_ball_state(BallState(px - 2.0, py, 0.11, 5.0, 0.0, 0.0, 0.0, 5.0 / 0.11, 0.0))
+    events = run(sim, 1.0)
+    assert sim.world.ball_state().vx < 0.0, "it comes back off the post"
+    assert not [e for e in events if isinstance(e, GoalScored)]
+
+
+def test_larger_field_by_configuration(make_sim, run):
+    from nubot_common.field import FieldGeometry
+
+    sim = make_sim(robots=(), field=FieldGeometry.msl_current())
+    sim.world.set_ball_state(BallState(9.5, 0.0, 0.11, 6.0, 0.0, 0.0, 0.0, 6.0 / 0.11, 0.0))
+    goals = [e for e in run(sim, 2.0) if isinstance(e, GoalScored)]
+    assert len(goals) == 1 and goals[0].ball.x > 11.0, "the goal line is at 11 m on a 22 m field"
