@@ -31,13 +31,18 @@ class FieldGeometry:
     border: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("length", "width", "goal_width", "goal_height", "goal_depth", "border"):
-            if getattr(self, name) <= 0.0:
+        for name in ("length", "width", "goal_width", "goal_height", "goal_depth", "post_radius",
+                     "penalty_area_length", "penalty_area_width", "goal_area_length", "goal_area_width",
+                     "center_circle_radius", "penalty_mark_distance", "line_width", "border"):
+            if not getattr(self, name) > 0.0:
                 raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
         if self.goal_width >= self.width:
             raise ValueError("goal_width must be smaller than the field width")
-        if self.penalty_area_width >= self.width or self.penalty_area_length >= self.length / 2:
-            raise ValueError("the penalty area must fit inside one half of the field")
+        for area in ("penalty_area", "goal_area"):
+            if getattr(self, f"{area}_width") >= self.width or getattr(self, f"{area}_length") >= self.length / 2:
+                raise ValueError(f"the {area.replace('_', ' ')} must fit inside one half of the field")
+        if self.goal_area_width > self.penalty_area_width or self.goal_area_length > self.penalty_area_length:
+            raise ValueError("the goal area must lie inside the penalty area")
 
     @classmethod
     def msl_current(cls) -> FieldGeometry:

@@ -44,14 +44,14 @@ class MatchMode(IntEnum):
 
 
 def parse_match_mode(value: int | str | bytes) -> MatchMode:
-    """Turn a number, an enum name or a one-byte ``char`` into a ``MatchMode``."""
+    """Turn an integer, an enum name or a one-byte ``char`` into a ``MatchMode``."""
     if isinstance(value, bytes):
         if len(value) != 1:
             raise NubotCommonError(f"MatchMode must be one byte, got {value!r}")
         value = value[0]
     if isinstance(value, str):
         text = value.strip()
-        if text.lstrip("-").isdigit():
+        if text.lstrip("-").isascii() and text.lstrip("-").isdigit():
             value = int(text)
         else:
             try:
@@ -59,8 +59,10 @@ def parse_match_mode(value: int | str | bytes) -> MatchMode:
             except KeyError:
                 names = ", ".join(m.name for m in MatchMode)
                 raise NubotCommonError(f"unknown MatchMode name {value!r}; known: {names}") from None
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise NubotCommonError(f"MatchMode must be an integer, a name or one byte, got {value!r}")
     try:
-        return MatchMode(int(value))
+        return MatchMode(value)
     except ValueError:
         known = ", ".join(f"{m.name}={m.value}" for m in MatchMode)
         raise NubotCommonError(f"unknown MatchMode {value!r}; known: {known}") from None

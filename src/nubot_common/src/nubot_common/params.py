@@ -44,9 +44,13 @@ def _convert(value: Any, annotation: Any, where: str) -> Any:
     if annotation is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise NubotCommonError(f"{where}: expected a number, got {value!r}")
-        if not math.isfinite(value):
+        try:
+            number = float(value)
+        except OverflowError:
+            number = math.inf
+        if not math.isfinite(number):
             raise NubotCommonError(f"{where}: expected a finite number, got {value!r}")
-        return float(value)
+        return number
     if annotation is int:
         if isinstance(value, bool) or not isinstance(value, int):
             raise NubotCommonError(f"{where}: expected an integer, got {value!r}")
@@ -64,10 +68,14 @@ def _convert(value: Any, annotation: Any, where: str) -> Any:
 
 def from_mapping(cls: type[T], data: Mapping[str, Any] | None, where: str = "") -> T:
     """Build the dataclass ``cls`` from ``data``; missing keys keep their defaults."""
-    data = dict(data or {})
+    if data is None:
+        data = {}
+    if not isinstance(data, Mapping):
+        raise NubotCommonError(f"{where or cls.__name__}: expected a mapping of parameters, got {data!r}")
+    data = dict(data)
     hints = typing.get_type_hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init}  # type: ignore[arg-type]
-    unknown = sorted(set(data) - set(fields))
+    unknown = sorted(str(key) for key in set(data) - set(fields))
     if unknown:
         raise NubotCommonError(
             f"{where or cls.__name__}: unknown parameter(s) {', '.join(unknown)}; "

@@ -26,6 +26,11 @@ class ReconfigureParam:
     def __post_init__(self) -> None:
         if self.kind not in _CTYPES:
             raise ValueError(f"unknown parameter kind {self.kind!r} for {self.name}")
+        if self.kind == "double":  # an int here would be encoded among the ints
+            for attr in ("default", "minimum", "maximum"):
+                object.__setattr__(self, attr, float(getattr(self, attr)))
+        if self.kind in ("double", "int") and not self.minimum <= self.default <= self.maximum:
+            raise ValueError(f"{self.name}: default {self.default} outside [{self.minimum}, {self.maximum}]")
 
 
 def config_type(params: list[ReconfigureParam]) -> SimpleNamespace:
