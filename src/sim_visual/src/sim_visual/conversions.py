@@ -13,6 +13,7 @@ from geometry_msgs.msg import Pose, Twist
 from nubot_common.geometry import quaternion_to_yaw, yaw_to_quaternion
 from nubot_common.msg import (
     BallInfo,
+    BallTouch,
     GoalEvent,
     ModelStates,
     ObstaclesInfo,
@@ -24,7 +25,7 @@ from nubot_common.msg import (
 )
 from sim_visual import SimVisualError
 from sim_visual.sensing import OmniVisionFrame
-from sim_visual.simulator import GoalScored
+from sim_visual.simulator import BallTouched, GoalScored
 from sim_visual.world import BallState, RobotState
 
 BALL_SEEN = 1
@@ -112,4 +113,12 @@ def goal_event_msg(goal: GoalScored) -> GoalEvent:
     msg.side = goal.side
     msg.ball_pos = Point3d(goal.ball.x, goal.ball.y, goal.ball.z)
     msg.last_touch = goal.last_touch
+    return msg
+
+
+def ball_touch_msg(touch: BallTouched) -> BallTouch:
+    msg = BallTouch()
+    msg.header.stamp = stamp(touch.time)
+    msg.robot = touch.robot
+    msg.ball_pos = Point3d(touch.ball.x, touch.ball.y, touch.ball.z)
     return msg

@@ -66,7 +66,16 @@ class BallReleased:
     robot: str
 
 
-SimEvent = GoalScored | BallKicked | BallCaptured | BallReleased
+@dataclass(frozen=True)
+class BallTouched:
+    """The robot that touched the ball last changed (contact, capture or kick)."""
+
+    time: float
+    robot: str
+    ball: BallState
+
+
+SimEvent = GoalScored | BallKicked | BallCaptured | BallReleased | BallTouched
 
 
 @dataclass
@@ -108,6 +117,7 @@ class Simulator:
         self.plugins: dict[str, RobotPlugin] = {}
         self.holder: str | None = None
         self.last_touch = ""
+        self._reported_touch = ""
         self._goal_latched = False
         for spawn in config.robots:
             self.spawn_robot(spawn)
@@ -149,7 +159,7 @@ class Simulator:
             self.world.set_robot_state(name, RobotState(s.x, s.y, s.theta, 0.0, 0.0, 0.0))
             self.plugins[name] = RobotPlugin(s, plugin.agent_id)
         self._place_ball_start()
-        self.last_touch = ""
+        self.last_touch = self._reported_touch = ""
         self._goal_latched = False
 
     def model_states(self) -> list[tuple[str, RobotState | BallState]]:
@@ -264,6 +274,10 @@ class Simulator:
                     break
         if self.holder is not None:
             self._carry_ball(self.holder)
+        if self.last_touch != self._reported_touch:  # also catches captures made by a BallHandle call
+            self._reported_touch = self.last_touch
+            if self.last_touch:
+                events.append(BallTouched(self.time, self.last_touch, self.world.ball_state()))
         goal = self._detect_goal()
         if goal is not None:
             events.append(goal)

@@ -165,3 +165,56 @@ def test_every_node_uses_sim_time(sim):
     start = sim.clock
     sim.wait_sim(0.5)
     assert sim.clock >= start + 0.5
+
+
+def test_spawn_and_delete_a_robot_with_its_prefixed_interface(sim):
+    import rospy
+    from geometry_msgs.msg import Pose
+
+    from nubot_common.msg import OmniVisionInfo, VelCmd
+    from nubot_common.srv import DeleteModel, SpawnModel
+
+    pose = Pose()
+    pose.position.x, pose.position.y = 4.0, -2.0
+    pose.orientation.z, pose.orientation.w = 1.0, 0.0  # facing -x
+    spawn = sim.service("/sim_visual/spawn_model", SpawnModel)
+    assert spawn("rival2", pose, -1).success
+    duplicate = spawn("rival2", pose, -1)
+    assert not duplicate.success and "already exists" in duplicate.status_message
+    frame = rospy.wait_for_message("/rival2/omnivision/OmniVisionInfo", OmniVisionInfo, timeout=10)
+    me = frame.robotinfo[0]
+    assert (me.pos.x, me.pos.y) == pytest.approx((-4.0, 2.0), abs=0.15), "the rival team sees its own frame"
+    pub = rospy.Publisher("/rival2/nubotcontrol/velcmd", VelCmd, queue_size=1)
+    try:
+        sim.wait_for(lambda: pub.get_num_connections() > 0, timeout=10, what="the simulator to subscribe")
+        end = sim.clock + 1.0
+        while sim.clock < end:
+            pub.publish(VelCmd(1.0, 0.0, 0.0))
+            sim.wait_sim(0.03)
+        assert sim.state("rival2")[0] < 3.3, "forward for rival2 is towards -x"
+    finally:
+        pub.unregister()
+    assert sim.service("/sim_visual/delete_model", DeleteModel)("rival2").success
+    with sim.lock:
+        sim.states.clear()
+    sim.wait_sim(0.2)
+    assert "rival2" not in sim.states
+    assert not sim.service("/sim_visual/delete_model", DeleteModel)("rival2").success
+
+
+def test_ball_touches_are_published(sim):
+    import rospy
+
+    from nubot_common.msg import BallTouch
+    from nubot_common.srv import BallHandle
+
+    touches = []
+    sub = rospy.Subscriber("/sim_visual/ball_touch", BallTouch, touches.append, queue_size=10)
+    try:
+        sim.wait_sim(0.3)
+        sim.set_model("football", -2.0 + 0.45, 0.0, z=0.11)
+        assert sim.service("/nubot1/BallHandle", BallHandle)(1).BallIsHolding == 1
+        sim.wait_for(lambda: touches, timeout=5, what="a touch message")
+        assert touches[0].robot == "nubot1"
+    finally:
+        sub.unregister()

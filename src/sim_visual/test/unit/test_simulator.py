@@ -241,3 +241,15 @@ def test_larger_field_by_configuration(make_sim, run):
     sim.world.set_ball_state(BallState(9.5, 0.0, 0.11, 6.0, 0.0, 0.0, 0.0, 6.0 / 0.11, 0.0))
     goals = [e for e in run(sim, 2.0) if isinstance(e, GoalScored)]
     assert len(goals) == 1 and goals[0].ball.x > 11.0, "the goal line is at 11 m on a 22 m field"
+
+
+def test_touches_are_reported_when_the_toucher_changes(make_sim, run):
+    from sim_visual.simulator import BallTouched
+
+    sim = make_sim(robots=(("nubot1", 0.0, 0.0, 0.0), ("rival1", 3.0, 0.0, math.pi)), ball=(0.45, 0.0))
+    assert sim.ball_handle("nubot1", 1)
+    first = [e for e in run(sim, 0.1) if isinstance(e, BallTouched)]
+    assert [e.robot for e in first] == ["nubot1"], "a capture is a touch"
+    sim.shoot("nubot1", 4, -1)
+    events = [e for e in run(sim, 2.0) if isinstance(e, BallTouched)]
+    assert [e.robot for e in events] == ["rival1"], "the pass hits rival1; nubot1's own kick is no new touch"
