@@ -15,6 +15,7 @@ from nubot_common.msg import (
     BallInfo,
     BallTouch,
     GoalEvent,
+    KickEvent,
     ModelStates,
     ObstaclesInfo,
     OmniVisionInfo,
@@ -25,7 +26,7 @@ from nubot_common.msg import (
 )
 from sim_visual import SimVisualError
 from sim_visual.sensing import OmniVisionFrame
-from sim_visual.simulator import BallTouched, GoalScored
+from sim_visual.simulator import BallKicked, BallTouched, GoalScored
 from sim_visual.world import BallState, RobotState
 
 BALL_SEEN = 1
@@ -121,4 +122,14 @@ def ball_touch_msg(touch: BallTouched) -> BallTouch:
     msg.header.stamp = stamp(touch.time)
     msg.robot = touch.robot
     msg.ball_pos = Point3d(touch.ball.x, touch.ball.y, touch.ball.z)
+    return msg
+
+
+def kick_event_msg(kick: BallKicked) -> KickEvent:
+    msg = KickEvent()
+    msg.header.stamp = stamp(kick.time)
+    msg.robot = kick.robot
+    msg.kind = kick.kind
+    msg.velocity = Point3d(*kick.velocity)
+    msg.ball_pos = Point3d(*kick.position)
     return msg

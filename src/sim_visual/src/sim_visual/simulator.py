@@ -51,7 +51,8 @@ class BallKicked:
     time: float
     robot: str
     kind: int  # GROUND_PASS or LOB_SHOT
-    velocity: tuple[float, float, float]
+    velocity: tuple[float, float, float]  # world frame [m/s]
+    position: tuple[float, float, float]  # ball centre at the kick, world frame [m]
 
 
 @dataclass(frozen=True)
@@ -228,7 +229,7 @@ class Simulator:
             kicked = replace(ball, z=r + _LOB_LIFT, vx=vx, vy=vy, vz=vz, wx=0.0, wy=0.0, wz=0.0)
         self.world.set_ball_state(kicked)
         self.last_touch = name
-        return True, BallKicked(self.time, name, shoot_pos, velocity)
+        return True, BallKicked(self.time, name, shoot_pos, velocity, (kicked.x, kicked.y, kicked.z))
 
     def update_params(self, plugin: PluginParams | None = None, noise: NoiseParams | None = None) -> None:
         if plugin is not None:
