@@ -1,0 +1,19 @@
+"""Fixtures shared by every package's tests: one private roscore per test session."""
+
+import os
+
+import pytest
+
+from nubot_common.processes import RosMaster
+
+
+@pytest.fixture(scope="session")
+def ros_master(tmp_path_factory):
+    """A roscore on a free port, and this process registered with it as a (wall-time) node."""
+    with RosMaster(tmp_path_factory.mktemp("ros")) as master:
+        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        import rospy  # after ROS_MASTER_URI points at the private master
+
+        rospy.init_node("integration_tests", anonymous=True, disable_signals=True)
+        yield master
+        rospy.signal_shutdown("tests done")
