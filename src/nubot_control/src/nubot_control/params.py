@@ -1,0 +1,65 @@
+"""Typed configuration of a robot's control (read once from ``config/nubot_control.yaml``).
+
+All values SI: metres, seconds, m/s, rad/s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from dataclasses import field as dc_field
+
+from nubot_common.field import FieldGeometry
+
+
+@dataclass(frozen=True)
+class MotionParams:
+    max_speed: float = 3.0  # [m/s]
+    max_accel: float = 3.0  # [m/s^2]
+    max_rot_speed: float = 4.0  # [rad/s]
+    max_rot_accel: float = 8.0  # [rad/s^2]
+    dribble_speed: float = 1.5  # while holding the ball [m/s]
+    position_gain: float = 2.5  # [1/s], velocity per metre of error near the target
+    heading_gain: float = 4.0  # [1/s]
+    robot_radius: float = 0.26  # [m]
+    clearance: float = 0.25  # kept free between two robots' hulls [m]
+
+    def __post_init__(self) -> None:
+        for name in ("max_speed", "max_accel", "max_rot_speed", "max_rot_accel", "dribble_speed",
+                     "position_gain", "heading_gain", "robot_radius"):
+            if not getattr(self, name) > 0.0:
+                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+        if self.clearance < 0.0:
+            raise ValueError(f"clearance must not be negative, got {self.clearance}")
+
+
+@dataclass(frozen=True)
+class PlayParams:
+    set_play_distance: float = 3.0  # opponents keep this far from the ball at our set pieces [m] (MSL)
+    drop_ball_distance: float = 1.0  # everyone keeps this far until the drop ball is started [m]
+    set_play_timeout: float = 7.0  # after STARTROBOT of an opponent set play, play on after this [s]
+    grab_distance: float = 0.45  # ask for the ball when this close, centre to centre [m]
+    shoot_range: float = 6.0  # shoot when this close to the opponent goal [m]
+    lob_range: float = 7.5  # a blocked shot within this range becomes a lob [m]
+    shot_speed: int = 10  # ground shot [m/s]
+    pass_speed_per_metre: float = 0.9  # ground pass speed = clamp(k * distance, 3, 8) [m/s per m]
+    aim_tolerance: float = 0.08  # kick when facing the aim point this well [rad]
+    role_hysteresis: float = 0.6  # a challenger must reach the ball this much sooner [s]
+    min_role_time: float = 1.0  # keep a role at least this long unless the holder drops out [s]
+    goalie_id: int = 1
+    team_size: int = 5
+
+    def __post_init__(self) -> None:
+        if not 1 <= self.goalie_id <= self.team_size:
+            raise ValueError(f"goalie_id must lie in 1..team_size, got {self.goalie_id}")
+
+
+@dataclass(frozen=True)
+class ControlParams:
+    field: FieldGeometry = dc_field(default_factory=FieldGeometry)
+    motion: MotionParams = dc_field(default_factory=MotionParams)
+    play: PlayParams = dc_field(default_factory=PlayParams)
+    rate: float = 33.0  # control cycles per second [Hz] (chapter 4.4)
+
+    def __post_init__(self) -> None:
+        if not self.rate > 0.0:
+            raise ValueError(f"rate must be positive, got {self.rate}")

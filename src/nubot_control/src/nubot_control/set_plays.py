@@ -1,0 +1,177 @@
+"""Formations for every game command, obeying the MSL distance rules (team frame, own goal at -x).
+
+Requires: the MatchMode, the ball, the team's valid robots and their roles, ``PlayParams``.
+Provides: ``formation`` -> ``Formation`` (a target pose per AgentID, the taker and the
+receiver of our set piece: the chapter's static pass ``staticpassNum``/``staticcatchNum``).
+Rules: at the opponent's set pieces every robot keeps ``set_play_distance`` (3 m) from the
+ball, and at kickoffs stays in its own half, outside the centre circle for the opponent's;
+at a drop ball everyone keeps ``drop_ball_distance`` (1 m); at the opponent's penalty only
+the goalie stays near its goal, the others beyond the penalty area; PARKINGROBOT lines the
+team up along the side line of its own half.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from nubot_common.field import FieldGeometry
+from nubot_common.geometry import Pose2D
+from nubot_common.match_mode import MatchMode
+from nubot_control.params import PlayParams
+from nubot_control.roles import Role
+from nubot_control.team_state import Ball, Mate
+
+OURS = {MatchMode.OUR_KICKOFF, MatchMode.OUR_THROWIN, MatchMode.OUR_GOALKICK, MatchMode.OUR_CORNERKICK,
+        MatchMode.OUR_FREEKICK, MatchMode.OUR_PENALTY}
+THEIRS = {m.mirrored() for m in OURS}
+_MARGIN = 0.3  # kept beyond every rule distance [m]
+_TAKER_GAP = 0.55  # the taker waits this far from the ball centre, facing it [m]
+
+
+@dataclass(frozen=True)
+class Formation:
+    targets: dict[int, Pose2D]
+    taker: int = 0  # AgentID that kicks our set piece (staticpassNum), 0 if none
+    receiver: int = 0  # AgentID that receives it (staticcatchNum), 0 if none
+
+
+def _facing(x: float, y: float, fx: float, fy: float) -> Pose2D:
+    return Pose2D(x, y, math.atan2(fy - y, fx - x))
+
+
+def keep_away(x: float, y: float, ball: Ball, radius: float) -> tuple[float, float]:
+    """Push (x, y) radially out of the circle of ``radius`` around the ball (towards the own goal if on it)."""
+    dx, dy = x - ball.x, y - ball.y
+    d = math.hypot(dx, dy)
+    if d >= radius:
+        return x, y
+    if d < 1e-6:
+        dx, dy, d = -1.0, 0.0, 1.0
+    return ball.x + dx / d * radius, ball.y + dy / d * radius
+
+
+def _inside(x: float, y: float, field: FieldGeometry, margin: float = 0.5) -> tuple[float, float]:
+    return (max(-field.half_length + margin, min(field.half_length - margin, x)),
+            max(-field.half_width + margin, min(field.half_width - margin, y)))
+
+
+def _goalie_spot(ball: Ball, field: FieldGeometry) -> Pose2D:
+    y = max(-field.goal_width / 2 + 0.3, min(field.goal_width / 2 - 0.3, ball.y * 0.3))
+    return _facing(-field.half_length + 0.4, y, ball.x, ball.y)
+
+
+def _defensive_spots(ball: Ball, field: FieldGeometry, count: int, radius: float) -> list[tuple[float, float]]:
+    """Spots between the ball and the own goal on a ring ``radius`` around the ball, spread out."""
+    own = (-field.half_length, 0.0)
+    base = math.atan2(own[1] - ball.y, own[0] - ball.x)
+    spots = []
+    for k in range(count):
+        offset = (k - (count - 1) / 2.0) * 0.6
+        x, y = ball.x + radius * math.cos(base + offset), ball.y + radius * math.sin(base + offset)
+        spots.append(_inside(x, y, field))
+    return spots
+
+
+def formation(mode: MatchMode, ball: Ball, team: list[Mate], roles: dict[int, Role], field: FieldGeometry,
+              play: PlayParams) -> Formation:
+    """Target poses for ``mode`` (a set piece, drop ball, park or stop)."""
+    ids = sorted(m.agent_id for m in team if m.valid)
+    goalie = play.goalie_id if play.goalie_id in ids else 0
+    field_ids = sorted((i for i in ids if i != goalie), key=lambda i: (roles.get(i, Role.NOROLE) != Role.ACTIVE,
+                                                                       roles.get(i, Role.NOROLE), i))
+    poses = {m.agent_id: m.pose for m in team}
+    targets: dict[int, Pose2D] = {}
+    if goalie:
+        targets[goalie] = _goalie_spot(ball, field)
+    if mode == MatchMode.STOPROBOT:
+        return Formation({i: poses[i] for i in ids})
+    if mode == MatchMode.PARKINGROBOT:
+        for k, i in enumerate(sorted(ids)):
+            targets[i] = Pose2D(-1.0 - 1.2 * k, -field.half_width - 0.5, math.pi / 2)
+        return Formation(targets)
+    if mode == MatchMode.DROPBALL:
+        radius = play.drop_ball_distance + _MARGIN
+        spots = _defensive_spots(ball, field, len(field_ids), radius + 1.0)
+        for k, i in enumerate(field_ids):
+            x, y = (ball.x - radius, ball.y) if k == 0 else spots[k]
+            x, y = keep_away(*_inside(x, y, field), ball, radius)
+            targets[i] = _facing(x, y, ball.x, ball.y)
+        return Formation(targets)
+    if mode in (MatchMode.OUR_KICKOFF, MatchMode.OPP_KICKOFF):
+        return _kickoff(mode == MatchMode.OUR_KICKOFF, ball, field_ids, targets, field, play)
+    if mode == MatchMode.OUR_PENALTY or mode == MatchMode.OPP_PENALTY:
+        return _penalty(mode == MatchMode.OUR_PENALTY, ball, field_ids, targets, field, play)
+    if mode in OURS:
+        return _our_restart(ball, field_ids, targets, field, play)
+    if mode in THEIRS:
+        radius = play.set_play_distance + _MARGIN
+        spots = _defensive_spots(ball, field, len(field_ids), radius)
+        for i, (x, y) in zip(field_ids, spots):
+            x, y = keep_away(x, y, ball, radius)
+            targets[i] = _facing(x, y, ball.x, ball.y)
+        if goalie:
+            gx, gy = keep_away(targets[goalie].x, targets[goalie].y, ball, radius)
+            targets[goalie] = _facing(gx, gy, ball.x, ball.y)
+        return Formation(targets)
+    return Formation({i: poses[i] for i in ids})  # STARTROBOT, TEST: no formation
+
+
+def _kickoff(ours: bool, ball: Ball, ids: list[int], targets: dict[int, Pose2D], field: FieldGeometry,
+             play: PlayParams) -> Formation:
+    circle = field.center_circle_radius + _MARGIN
+    spots = [(-circle - 0.5, 0.0), (-4.0, -3.0), (-4.0, 3.0), (-6.0, 0.0)]
+    taker = receiver = 0
+    if ours and ids:
+        taker = ids[0]
+        targets[taker] = _facing(ball.x - _TAKER_GAP, ball.y, ball.x, ball.y)
+        if len(ids) > 1:
+            receiver = ids[1]
+            targets[receiver] = _facing(-1.0, 2.5, ball.x, ball.y)
+        rest = ids[2:]
+        spots = [(-4.0, -3.0), (-6.0, 0.0), (-4.0, 3.0)]
+    else:
+        rest = ids
+    for i, (x, y) in zip(rest, spots):
+        targets[i] = _facing(min(x, -0.3), y, ball.x, ball.y)
+    return Formation(targets, taker, receiver)
+
+
+def _penalty(ours: bool, ball: Ball, ids: list[int], targets: dict[int, Pose2D], field: FieldGeometry,
+             play: PlayParams) -> Formation:
+    spot_x = (1.0 if ours else -1.0) * (field.half_length - field.penalty_mark_distance)
+    line_x = 0.0 if ours else -field.half_length + field.penalty_area_length + play.set_play_distance + _MARGIN
+    taker = 0
+    rest = ids
+    if ours and ids:
+        taker, rest = ids[0], ids[1:]
+        targets[taker] = _facing(spot_x - _TAKER_GAP, 0.0, field.half_length, 0.0)
+    for k, i in enumerate(rest):
+        y = (k - (len(rest) - 1) / 2.0) * 1.5
+        x = line_x - 1.0 if ours else max(line_x, -field.half_length + field.penalty_area_length + 1.0)
+        x, y = keep_away(x, y, Ball(spot_x, 0.0), play.set_play_distance + _MARGIN)
+        targets[i] = _facing(x, y, spot_x, 0.0)
+    return Formation(targets, taker)
+
+
+def _our_restart(ball: Ball, ids: list[int], targets: dict[int, Pose2D], field: FieldGeometry,
+                 play: PlayParams) -> Formation:
+    if not ids:
+        return Formation(targets)
+    taker = ids[0]
+    receiver = ids[1] if len(ids) > 1 else 0
+    # The receiver stands 3 m away, towards the opponent goal and the middle of the field.
+    towards = (min(ball.x + 2.5, field.half_length - 1.5), ball.y * 0.4)
+    dx, dy = towards[0] - ball.x, towards[1] - ball.y
+    d = max(math.hypot(dx, dy), 1e-6)
+    rx, ry = _inside(ball.x + dx / d * 3.0, ball.y + dy / d * 3.0, field)
+    aim = (rx, ry) if receiver else (field.half_length, 0.0)
+    ax, ay = aim[0] - ball.x, aim[1] - ball.y
+    a = max(math.hypot(ax, ay), 1e-6)
+    targets[taker] = _facing(ball.x - ax / a * _TAKER_GAP, ball.y - ay / a * _TAKER_GAP, ball.x, ball.y)
+    if receiver:
+        targets[receiver] = _facing(rx, ry, ball.x, ball.y)
+    spots = _defensive_spots(ball, field, max(len(ids) - 2, 0), 4.0)
+    for i, (x, y) in zip(ids[2:], spots):
+        targets[i] = _facing(x, y, ball.x, ball.y)
+    return Formation(targets, taker, receiver)

@@ -1,0 +1,78 @@
+"""Set-play formations obey the MSL distance rules."""
+
+import math
+
+import pytest
+
+from nubot_common.field import FieldGeometry
+from nubot_common.geometry import Pose2D
+from nubot_common.match_mode import MatchMode
+from nubot_control.params import PlayParams
+from nubot_control.roles import Role
+from nubot_control.set_plays import OURS, THEIRS, formation
+from nubot_control.team_state import Ball, Mate
+
+FIELD, PLAY = FieldGeometry(), PlayParams(goalie_id=1)
+TEAM = [Mate(i, Pose2D(x, y, 0.0)) for i, (x, y) in
+        {1: (-8.5, 0.0), 2: (1.0, 0.0), 3: (-2.0, 3.0), 4: (-4.0, -2.0), 5: (-6.0, 0.0)}.items()]
+ROLES = {1: Role.GOALIE, 2: Role.ACTIVE, 3: Role.ASSISTANT, 4: Role.PASSIVE, 5: Role.MIDFIELD}
+BALLS = [Ball(0.0, 0.0), Ball(4.0, 5.9), Ball(-8.9, -5.9), Ball(-6.0, 0.5), Ball(8.0, -3.0)]
+
+
+@pytest.mark.parametrize("ball", BALLS)
+@pytest.mark.parametrize("mode", sorted(THEIRS - {MatchMode.OPP_PENALTY, MatchMode.OPP_KICKOFF}))
+def test_opponent_set_pieces_keep_three_metres(mode, ball):
+    plan = formation(mode, ball, TEAM, ROLES, FIELD, PLAY)
+    assert set(plan.targets) == {1, 2, 3, 4, 5}
+    for agent, pose in plan.targets.items():
+        assert math.hypot(pose.x - ball.x, pose.y - ball.y) >= 3.0, f"robot {agent} too close at {mode.name}"
+        assert FIELD.is_inside(pose.x, pose.y, FIELD.border)
+
+
+def test_kickoffs_keep_everyone_in_the_own_half():
+    ball = Ball(0.0, 0.0)
+    theirs = formation(MatchMode.OPP_KICKOFF, ball, TEAM, ROLES, FIELD, PLAY)
+    for pose in theirs.targets.values():
+        assert pose.x < 0.0
+        assert math.hypot(pose.x, pose.y) > FIELD.center_circle_radius, "outside the centre circle"
+    ours = formation(MatchMode.OUR_KICKOFF, ball, TEAM, ROLES, FIELD, PLAY)
+    assert ours.taker == 2 and ours.receiver != 0
+    assert all(pose.x < 0.0 for pose in ours.targets.values())
+    taker = ours.targets[2]
+    assert math.hypot(taker.x, taker.y) == pytest.approx(0.55) and abs(taker.theta) < 1e-6, "faces the ball"
+
+
+@pytest.mark.parametrize("ball", BALLS)
+def test_drop_ball_keeps_one_metre(ball):
+    plan = formation(MatchMode.DROPBALL, ball, TEAM, ROLES, FIELD, PLAY)
+    for pose in plan.targets.values():
+        assert math.hypot(pose.x - ball.x, pose.y - ball.y) >= 1.0
+
+
+@pytest.mark.parametrize("mode", sorted(OURS - {MatchMode.OUR_KICKOFF, MatchMode.OUR_PENALTY}))
+def test_our_restart_has_a_taker_at_the_ball_and_a_receiver_three_metres_away(mode):
+    ball = Ball(3.0, 5.9)
+    plan = formation(mode, ball, TEAM, ROLES, FIELD, PLAY)
+    taker, receiver = plan.targets[plan.taker], plan.targets[plan.receiver]
+    assert plan.taker == 2, "the active robot takes it"
+    assert math.hypot(taker.x - ball.x, taker.y - ball.y) == pytest.approx(0.55)
+    assert math.hypot(receiver.x - ball.x, receiver.y - ball.y) == pytest.approx(3.0, abs=0.6)
+    assert FIELD.is_inside(receiver.x, receiver.y)
+
+
+def test_opponent_penalty_leaves_only_the_goalie_near_the_goal():
+    plan = formation(MatchMode.OPP_PENALTY, Ball(-6.0, 0.0), TEAM, ROLES, FIELD, PLAY)
+    assert plan.targets[1].x < -8.0
+    spot = (-FIELD.half_length + FIELD.penalty_mark_distance, 0.0)
+    for agent in (2, 3, 4, 5):
+        pose = plan.targets[agent]
+        assert math.hypot(pose.x - spot[0], pose.y - spot[1]) >= 3.0
+        assert pose.x > -FIELD.half_length + FIELD.penalty_area_length
+
+
+def test_parking_lines_up_along_the_side_line():
+    plan = formation(MatchMode.PARKINGROBOT, Ball(0.0, 0.0), TEAM, ROLES, FIELD, PLAY)
+    ys = {round(p.y, 6) for p in plan.targets.values()}
+    assert ys == {-FIELD.half_width - 0.5}
+    xs = sorted(p.x for p in plan.targets.values())
+    assert min(b - a for a, b in zip(xs, xs[1:])) >= 1.0, "robots park apart"

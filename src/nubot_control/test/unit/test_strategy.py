@@ -1,0 +1,56 @@
+"""The strategy in an in-process match (simulator core, no ROS): kickoff, set pieces, open play."""
+
+import math
+
+from nubot_common.match_mode import MatchMode
+from nubot_control.roles import Role
+
+TEAMS = [("nubot1", -8.4, 0, 0), ("nubot2", -1.0, 0, 0), ("nubot3", -3, 2.5, 0), ("nubot4", -3, -2.5, 0),
+         ("nubot5", -5.5, 0, 0), ("rival1", 8.4, 0, math.pi), ("rival2", 1.0, 0, math.pi),
+         ("rival3", 3, -2.5, math.pi), ("rival4", 3, 2.5, math.pi), ("rival5", 5.5, 0, math.pi)]
+
+
+def test_kickoff_formation_then_the_static_pass(make_match):
+    match = make_match(TEAMS)
+    match.command("nubot", MatchMode.OUR_KICKOFF)
+    match.run(4.0)
+    for name in ("rival2", "rival3", "rival4", "rival5"):
+        s = match.sim.world.robot_state(name)
+        assert s.x > 0.0 and math.hypot(s.x, s.y) > 2.0, f"{name} respects the opponent kickoff"
+    taker = next(n for n, o in match.outputs.items() if o.role == Role.PASSOFPASS)
+    receiver = next(n for n, o in match.outputs.items() if o.role == Role.CATCHOFPASS)
+    assert taker.startswith("nubot") and receiver.startswith("nubot")
+    match.command("nubot", MatchMode.STARTROBOT)
+    kicks = []
+    for _ in range(200):
+        match.run(0.05)
+        if match.sim.holder is not None and match.sim.holder != taker:
+            kicks.append(match.sim.holder)
+            break
+    assert kicks and kicks[0] == receiver, "the kickoff pass reaches the receiver"
+
+
+def test_a_short_match_moves_the_ball_and_everyone_keeps_a_role(make_match):
+    match = make_match(TEAMS, mode=MatchMode.STARTROBOT)
+    match.command("nubot", MatchMode.STARTROBOT)
+    positions = []
+    for _ in range(30):
+        match.run(1.0)
+        b = match.sim.world.ball_state()
+        positions.append((b.x, b.y))
+    travelled = sum(math.dist(a, b) for a, b in zip(positions, positions[1:]))
+    assert travelled > 15.0
+    for team in ("nubot", "rival"):
+        roles = [o.role for n, o in match.outputs.items() if n.startswith(team)]
+        assert roles.count(Role.GOALIE) == 1 and roles.count(Role.ACTIVE) <= 2
+
+
+def test_stop_halts_every_robot(make_match):
+    match = make_match(TEAMS)
+    match.command("nubot", MatchMode.STARTROBOT)
+    match.run(2.0)
+    match.command("nubot", MatchMode.STOPROBOT)
+    match.run(1.5)
+    for name in match.strategies:
+        s = match.sim.world.robot_state(name)
+        assert math.hypot(s.vx, s.vy) < 0.05, f"{name} still moves"
