@@ -1,0 +1,158 @@
+#!/usr/bin/env python3
+"""Play a refereed 5 vs 5 match on this machine, record it to a rosbag, and report on it.
+
+Starts a private roscore on a free port, the simulator (``sim_visual match.launch``), a
+recorder (``rosbag record -a``), both teams through the spawner (each robot's world_model
+and nubot_control under its prefix, one relay per team) and the automatic referee. Shows
+the game clock, the score and the last referee event while it plays; at the end writes
+``matches/match-<time>/match.bag`` and the match report (report.json, heatmap.png,
+trajectories.png) from the bag alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from datetime import datetime
+from pathlib import Path
+
+from nubot_common.processes import RosMaster
+
+ROOT = Path(__file__).resolve().parents[1]
+TEAMS = ROOT / "src" / "nubot_control" / "config" / "teams"
+
+
+class GameWatcher:
+    """Follows /referee/state and /clock."""
+
+    def __init__(self) -> None:
+        import rospy
+        from rosgraph_msgs.msg import Clock
+
+        from nubot_common.msg import GameState
+
+        self.clock = 0.0
+        self.state = None
+        self.events: list[tuple[float, str]] = []
+        rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1)
+        rospy.Subscriber("/referee/state", GameState, self._on_state, queue_size=10)
+
+    def _on_clock(self, msg) -> None:
+        self.clock = msg.clock.to_sec()
+
+    def _on_state(self, msg) -> None:
+        self.state = msg
+        if msg.last_event and (not self.events or self.events[-1][1] != msg.last_event):
+            self.events.append((self.clock, msg.last_event))
+            print(f"  [{_clock(self.clock)}] {msg.last_event}", flush=True)
+
+    def line(self) -> str:
+        s = self.state
+        if s is None:
+            return f"  sim {_clock(self.clock)}: waiting for the referee"
+        score = " - ".join(f"{team} {goals}" for team, goals in zip(s.teams, s.score))
+        status = "running" if s.running else "stopped"
+        return f"  sim {_clock(self.clock)} | half {s.half} {_clock(s.game_time)} | {score} | {status}"
+
+
+def _clock(seconds: float) -> str:
+    return f"{int(seconds // 60):02d}:{seconds % 60:04.1f}"
+
+
+def wait_for_robots(names: list[str], timeout: float) -> list[str]:
+    """Wait until every robot publishes its world model; return the ones still silent."""
+    import rospy
+
+    from nubot_common.msg import WorldModelInfo
+
+    heard: set[str] = set()
+    subs = [rospy.Subscriber(f"/{n}/worldmodel/worldmodelinfo", WorldModelInfo,
+                             lambda _m, n=n: heard.add(n), queue_size=1) for n in names]
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and len(heard) < len(names):
+        time.sleep(0.2)
+    for sub in subs:
+        sub.unregister()
+    return sorted(set(names) - heard)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--half-seconds", type=float, default=90.0, help="length of a half [s of game time]")
+    parser.add_argument("--halves", type=int, default=2)
+    parser.add_argument("--real-time-factor", type=float, default=1.0)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--team", action="append", type=Path, help="team YAML (twice); default nubot and rival")
+    parser.add_argument("--out", type=Path, default=ROOT / "matches")
+    parser.add_argument("--no-report", action="store_true")
+    args = parser.parse_args(argv)
+    teams = args.team or [TEAMS / "nubot.yaml", TEAMS / "rival.yaml"]
+    if len(teams) != 2:
+        parser.error("give --team exactly twice")
+
+    from nubot_common.params import load_yaml
+    from nubot_control.team_config import TeamConfig
+
+    configs = [load_yaml(TeamConfig, t) for t in teams]
+    out = args.out / datetime.now().strftime("match-%Y%m%d-%H%M%S")
+    out.mkdir(parents=True, exist_ok=True)
+    bag = out / "match.bag"
+    game_seconds = args.half_seconds * args.halves
+    print(f"match {configs[0].name} vs {configs[1].name}: {args.halves} x {args.half_seconds:.0f} s, "
+          f"real_time_factor {args.real_time_factor}, seed {args.seed}; folder {out}", flush=True)
+    with RosMaster(out / "logs") as master:
+        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        import rospy
+
+        rospy.init_node("match_runner", disable_signals=True)
+        master.launch("sim", ["roslaunch", "--skip-log-check", "sim_visual", "match.launch",
+                              f"real_time_factor:={args.real_time_factor}", f"seed:={args.seed}"])
+        rospy.wait_for_service("/sim_visual/spawn_model", timeout=60)
+        recorder = master.launch("recorder", ["rosbag", "record", "-a", "-O", str(bag), "__name:=match_recorder"])
+        for team_file, config in zip(teams, configs):
+            master.launch(f"team_{config.prefix}", [sys.executable, str(ROOT / "scripts" / "spawn_team.py"),
+                                                    str(team_file)])
+        names = [n for c in configs for n in c.robot_names()]
+        silent = wait_for_robots(names, timeout=180)
+        if silent:
+            print(f"  robots without a world model after 180 s: {', '.join(silent)}; playing on", flush=True)
+        print(f"  {len(names) - len(silent)} robots ready; kick-off", flush=True)
+        teams_param = "[" + ", ".join(f"{{prefix: {c.prefix}, attack: {c.attack}}}" for c in configs) + "]"
+        referee = master.launch("referee", ["roslaunch", "--skip-log-check", "coach4sim", "referee.launch",
+                                            f"half_duration:={args.half_seconds}", f"halves:={args.halves}",
+                                            f"teams:={teams_param}"])
+        watcher = GameWatcher()
+        wall_start, last_line = time.monotonic(), 0.0
+        limit = 120.0 + 3.0 * game_seconds / max(args.real_time_factor, 0.05)
+        while True:
+            s = watcher.state
+            if s is not None and s.half >= args.halves and s.game_time >= args.half_seconds - 0.05 and not s.running:
+                break
+            if not referee.alive():
+                print("  the referee stopped unexpectedly", flush=True)
+                break
+            if time.monotonic() - wall_start > limit:
+                print("  wall-clock limit reached; ending the match", flush=True)
+                break
+            if time.monotonic() - last_line >= 5.0:
+                last_line = time.monotonic()
+                print(watcher.line(), flush=True)
+            time.sleep(0.1)
+        print(watcher.line(), flush=True)
+        elapsed = time.monotonic() - wall_start
+        print(f"  full time after {elapsed:.0f} s wall ({watcher.clock / max(elapsed, 1e-6):.2f} x real time); "
+              "closing the bag", flush=True)
+        recorder.stop(timeout=20)
+        rospy.signal_shutdown("match over")
+    if args.no_report:
+        return 0
+    sys.path.insert(0, str(ROOT / "scripts"))
+    import match_report
+
+    return match_report.main([str(bag), "--out", str(out)])
+
+
+if __name__ == "__main__":
+    sys.exit(main())

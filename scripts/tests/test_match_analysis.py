@@ -1,0 +1,178 @@
+"""Unit tests of match_analysis: the statistics' definitions on small hand-made records, and the plots."""
+
+import json
+
+import numpy as np
+import pytest
+
+import match_analysis as ma
+
+FIELD = ma.FieldSize()
+
+
+def state(t, running, score=(0, 0), attack=(1, -1), event="", half=1, game_time=0.0):
+    return ma.RefereeState(t, ("nubot", "rival"), score, attack, half, game_time, running, event)
+
+
+def kick(t, robot, velocity=(0.0, 3.0, 0.0), xy=(0.0, 0.0), kind=-1):
+    return ma.Kick(t, robot, kind, velocity, xy)
+
+
+def test_team_of_strips_the_robot_number():
+    assert ma.team_of("nubot3") == "nubot"
+    assert ma.team_of("rival12") == "rival"
+    assert ma.team_of("football") == "football"
+    assert ma.is_robot("nubot1") and not ma.is_robot("football") and not ma.is_robot("3")
+
+
+@pytest.mark.parametrize(("kwargs", "message"), [
+    ({"length": 0.0}, "field length must be positive, got 0.0"),
+    ({"goal_width": -1.0}, "field goal_width must be positive"),
+    ({"width": 2.0, "goal_width": 2.4}, "goal width 2.4 m must be smaller than the field width 2.0 m"),
+])
+def test_field_size_rejects_bad_dimensions(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        ma.FieldSize(**kwargs)
+
+
+def test_running_intervals_follow_the_referee_and_merge_repeated_states():
+    referee = [state(0.0, False), state(1.0, True), state(2.0, True), state(5.0, False), state(7.0, True)]
+    assert ma.running_intervals(referee, 0.0, 10.0) == [(1.0, 5.0), (7.0, 10.0)]
+    assert ma.running_intervals([], 2.0, 10.0) == [(2.0, 10.0)]
+    assert ma.running_intervals([state(3.0, True)], 0.0, 10.0) == [(3.0, 10.0)]  # not running before the first
+
+
+def test_overlap_counts_only_time_inside_the_intervals():
+    assert ma.overlap(0.0, 10.0, [(1.0, 2.0), (5.0, 12.0)]) == pytest.approx(6.0)
+    assert ma.overlap(2.0, 5.0, [(1.0, 2.0), (5.0, 12.0)]) == 0.0
+
+
+def test_possession_is_running_time_per_team_of_the_last_toucher():
+    touches = [ma.Touch(2.0, "nubot1"), ma.Touch(4.0, "rival2"), ma.Touch(8.0, "nubot3")]
+    seconds = ma.possession(touches, [(1.0, 6.0), (7.0, 10.0)], 10.0, ["nubot", "rival"])
+    # nobody 1-2; nubot 2-4; rival 4-6 and 7-8; nubot 8-10
+    assert seconds == pytest.approx({"nubot": 4.0, "rival": 3.0, "nobody": 1.0})
+
+
+@pytest.mark.parametrize(("velocity", "xy", "kind", "side", "shot"), [
+    ((6.0, 0.0, 0.0), (5.0, 0.0), -1, 1, True),  # straight at the goal
+    ((6.0, 0.78, 0.0), (3.0, 0.0), -1, 1, True),  # y = 0.78 at the line: between the posts
+    ((6.0, 1.25, 0.0), (3.0, 0.0), -1, 1, False),  # y = 1.25 at the line: just wide of the post at 1.2
+    ((-6.0, 0.0, 0.0), (5.0, 0.0), -1, 1, False),  # away from the attacked goal
+    ((-6.0, 0.5, 0.0), (-5.0, 0.0), -1, -1, True),  # the other team's attack
+    ((6.0, 0.0, 0.0), (9.5, 0.0), -1, 1, False),  # ball already behind the goal line
+    ((3.0, 5.0, 4.0), (-8.0, 0.0), 1, 1, True),  # any lob towards the attacked half
+    ((-3.0, 0.0, 4.0), (-8.0, 0.0), 1, 1, False),  # a lob backwards
+])
+def test_is_shot(velocity, xy, kind, side, shot):
+    assert ma.is_shot(kick(0.0, "nubot1", velocity, xy, kind), side, FIELD) is shot
+
+
+def classify(kicks, touches=(), goals=(), referee=(), end=20.0):
+    log = ma.MatchLog(kicks=list(kicks), touches=list(touches), goals=list(goals), referee=list(referee),
+                      start=0.0, end=end)
+    intervals = ma.running_intervals(log.referee, 0.0, end)
+    return ma.classify_kicks(log, intervals, {"nubot": 1, "rival": -1}, FIELD)
+
+
+def test_pass_to_a_teammate_is_completed_and_to_an_opponent_intercepted():
+    out = classify([kick(1.0, "nubot2"), kick(5.0, "nubot3")],
+                   [ma.Touch(0.5, "nubot2"), ma.Touch(2.0, "nubot3"), ma.Touch(6.0, "rival1")])
+    assert [(k.pass_outcome, k.receiver) for k in out] == [("completed", "nubot3"), ("intercepted", "rival1")]
+    assert not any(k.shot for k in out)
+
+
+def test_kicks_count_as_touches_of_the_kicker():
+    out = classify([kick(1.0, "nubot2"), kick(3.0, "nubot4")])  # no BallTouch at all
+    assert out[0].pass_outcome == "completed" and out[0].receiver == "nubot4"
+    assert out[1].pass_outcome == "unresolved"
+
+
+def test_pass_is_lost_when_play_stops_a_goal_falls_or_the_kicker_kicks_again():
+    referee = [state(0.0, True), state(2.0, False), state(3.0, True)]
+    stopped = classify([kick(1.0, "nubot2")], [ma.Touch(4.0, "nubot3")], referee=referee)
+    goal = classify([kick(1.0, "nubot2")], [ma.Touch(4.0, "nubot3")], goals=[ma.Goal(2.0, -1, (-9.1, 0.0), "")])
+    again = classify([kick(1.0, "nubot2"), kick(2.0, "nubot2")], [ma.Touch(4.0, "nubot3")])
+    assert stopped[0].pass_outcome == goal[0].pass_outcome == again[0].pass_outcome == "lost"
+    assert again[1].pass_outcome == "completed"
+
+
+def test_kicks_outside_play_are_neither_passes_nor_shots():
+    out = classify([kick(1.0, "nubot2", velocity=(6.0, 0.0, 0.0))], referee=[state(0.0, False)])
+    assert not out[0].in_play and not out[0].shot and out[0].pass_outcome == ""
+
+
+def test_shots_use_the_attack_in_force_at_the_kick():
+    referee = [state(0.0, True, attack=(1, -1)), state(10.0, True, attack=(-1, 1), half=2)]
+    first, second = classify([kick(5.0, "nubot1", (6.0, 0.0, 0.0), (5.0, 0.0)),
+                              kick(15.0, "nubot1", (6.0, 0.0, 0.0), (5.0, 0.0))], referee=referee)
+    assert first.shot and not second.shot
+
+
+def test_distance_run_leaves_out_teleports():
+    xy = np.array([[0.0, 0.0], [0.3, 0.4], [0.6, 0.8], [5.0, 5.0], [5.0, 5.5]])  # 0.5 + 0.5 + jump + 0.5
+    assert ma.distance_run(ma.Track("nubot1", np.arange(5.0), xy)) == pytest.approx(1.5)
+    assert ma.distance_run(ma.Track("nubot1", np.arange(5.0), xy), teleport_step=10.0) > 7.0
+    assert ma.distance_run(ma.Track("nubot1", np.zeros(1), xy[:1])) == 0.0
+
+
+def test_referee_events_are_the_changes_of_last_event():
+    referee = [state(0.0, False), state(1.0, True, event="kick-off"), state(2.0, True, event="kick-off"),
+               state(3.0, False, event="throw-in"), state(4.0, True, event="kick-off")]
+    assert ma.referee_events(referee) == [(1.0, "kick-off"), (3.0, "throw-in"), (4.0, "kick-off")]
+
+
+def test_goals_are_credited_to_the_attacking_team_and_own_goals_marked():
+    referee = [state(0.0, True), state(10.0, True, attack=(-1, 1), half=2)]
+    log = ma.MatchLog(goals=[ma.Goal(5.0, 1, (9.1, 0.0), "nubot2"), ma.Goal(12.0, 1, (9.1, 0.0), "nubot3")],
+                      referee=referee, start=0.0, end=20.0)
+    goals, warnings = ma.credit_goals(log, {"nubot": 1, "rival": -1})
+    assert [(g.team, g.own_goal, g.half, g.game_time) for g in goals] == [("nubot", False, 1, 5.0),
+                                                                         ("rival", True, 2, 2.0)]
+    assert warnings == []
+
+
+def test_analyse_reports_a_referee_score_that_differs():
+    log = ma.MatchLog(goals=[ma.Goal(5.0, 1, (9.1, 0.0), "nubot2")],
+                      referee=[state(0.0, True), state(6.0, True, score=(0, 0))], start=0.0, end=10.0)
+    summary = ma.analyse(log, FIELD)
+    assert summary.score == {"nubot": 1, "rival": 0}
+    assert summary.referee_score == {"nubot": 0, "rival": 0}
+    assert not summary.score_agrees
+    assert summary.to_json()["score_agrees"] is False
+
+
+def test_analyse_without_referee_uses_the_default_attack_and_all_time():
+    log = ma.MatchLog(goals=[ma.Goal(5.0, 1, (9.1, 0.0), "rival2")], touches=[ma.Touch(0.0, "rival2")],
+                      start=0.0, end=10.0)
+    summary = ma.analyse(log, FIELD, default_attack=("rival", 1))
+    assert summary.score == {"rival": 1}
+    assert summary.running_time == 10.0
+    assert summary.possession_share() == {"rival": 1.0, "nobody": 0.0}
+    assert "no referee state recorded" in summary.warnings[0]
+
+
+def test_summary_json_has_every_section_and_serialises():
+    log = ma.MatchLog(tracks={"nubot1": ma.Track("nubot1", np.array([0.0, 1.0]), np.array([[0.0, 0.0], [0.0, 1.0]]))},
+                      kicks=[kick(1.0, "nubot1")], referee=[state(0.0, True)], start=0.0, end=2.0)
+    report = ma.analyse(log, FIELD).to_json()
+    assert {"teams", "score", "score_from_referee", "goals", "possession", "passes", "shots", "referee_events",
+            "distance_run_m", "definitions", "kicks", "field_m"} <= set(report)
+    assert report["passes"]["nubot"] == {"tried": 1, "completed": 0, "failed": 1, "intercepted": 0, "lost": 0,
+                                         "unresolved": 1}
+    assert report["distance_run_m"] == {"nubot1": 1.0}
+    json.dumps(report)
+
+
+def test_plots_write_pngs(tmp_path):
+    t = np.linspace(0.0, 10.0, 101)
+    tracks = {"nubot1": ma.Track("nubot1", t, np.column_stack([t - 5.0, np.sin(t)])),
+              "nubot2": ma.Track("nubot2", t, np.column_stack([-t, np.cos(t)])),
+              "rival1": ma.Track("rival1", t, np.column_stack([np.where(t < 5, t, t - 4.0), -np.sin(t)])),
+              "football": ma.Track("football", t, np.column_stack([t - 2.0, t / 3.0]))}
+    ma.plot_ball_heatmap(tracks["football"].xy, FIELD, tmp_path / "heat.png", sample_period=0.1)
+    ma.plot_ball_heatmap(np.zeros((0, 2)), FIELD, tmp_path / "empty.png", sample_period=0.0)
+    ma.plot_trajectories(tracks, ["nubot", "rival"], FIELD, tmp_path / "traj.png")
+    for name in ("heat.png", "empty.png", "traj.png"):
+        data = (tmp_path / name).read_bytes()
+        assert data.startswith(b"\x89PNG") and len(data) > 10_000
