@@ -1,0 +1,35 @@
+"""Typed configuration of the world model (read once from ``config/world_model.yaml``).
+
+Provides: ``WorldModelParams``, frozen and validated; times in seconds of sim time,
+distances in metres. The node reads it from its private namespace with
+``nubot_common.params.from_mapping`` (unknown keys and bad values are refused by name).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class WorldModelParams:
+    team_size: int = 5  # robots per team; AgentIDs run 1..team_size
+    teammate_timeout: float = 0.3  # a robot whose state is older than this is invalid [s] (NuBot: 300 ms)
+    ball_timeout: float = 0.3  # own perception (ball, obstacles) older than this is not used [s]
+    velocity_window: float = 0.5  # ball positions this recent enter the velocity fit [s]
+    min_fit_samples: int = 3  # fewer positions in the window: ball velocity unknown
+    teammate_radius: float = 0.5  # an obstacle this close to a valid teammate is that teammate [m]
+    obstacle_merge_radius: float = 0.5  # a teammate's obstacle this close to a known one is the same robot [m]
+    ball_agreement_radius: float = 1.0  # a robot whose ball is this close to the fused ball sees the same ball [m]
+    sighting_confidence: float = 0.7  # confidence in a fresh ball seen by one robot, in (0, 1)
+
+    def __post_init__(self) -> None:
+        if not 1 <= self.team_size <= 99:
+            raise ValueError(f"team_size must lie in [1, 99], got {self.team_size}")
+        for name in ("teammate_timeout", "ball_timeout", "velocity_window", "teammate_radius",
+                     "obstacle_merge_radius", "ball_agreement_radius"):
+            if not getattr(self, name) > 0.0:
+                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+        if self.min_fit_samples < 2:
+            raise ValueError(f"min_fit_samples must be at least 2 (a line needs 2 points), got {self.min_fit_samples}")
+        if not 0.0 < self.sighting_confidence < 1.0:
+            raise ValueError(f"sighting_confidence must lie in (0, 1), got {self.sighting_confidence}")

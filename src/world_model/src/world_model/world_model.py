@@ -1,0 +1,229 @@
+"""The world model of one robot (chapter 4.5): own perception + teammates + coach in one team-frame view.
+
+Requires, as they arrive (sim time t [s], team frame):
+  ``on_vision(t, robot, ball, obstacles)``   own self-localization, ball and obstacles (OmniVisionInfo);
+  ``on_teammate(t, view)``                   a teammate's shared state (TeamMessage via the relay);
+  ``on_coach(t, mode, match_type, extras)``  a game command (CoachInfo); unknown values raise;
+  ``on_strategy(t, strategy)``               this robot's strategy (role, targets, pass command);
+  ``on_teammate_strategy(t, strategy)``      a teammate's strategy (its pass command).
+Provides: ``snapshot(t)`` -> ``WorldState`` (robots by AgentID with validity, fused ball,
+labelled obstacles, game state, pass command) and ``own_view(t)`` -> the ``RobotView``
+this robot shares with its teammates. Parameters: ``WorldModelParams``.
+Rules: a robot (this one included) whose state is older than ``teammate_timeout`` or
+reported invalid is invalid; own perception older than ``ball_timeout`` is not used;
+the ball comes from own sensors first, else from the valid teammate nearest to its ball.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import replace
+
+from nubot_common.geometry import Pose2D
+from world_model import WorldModelError
+from world_model.ball_fusion import BallCandidate, BallTrack, agreeing, ball_confidence, choose_ball
+from world_model.game import next_game_state, parse_coach_command, select_pass
+from world_model.obstacles import label_obstacles
+from world_model.params import WorldModelParams
+from world_model.state import (
+    BallObservation,
+    BallSource,
+    CoachExtras,
+    FusedBall,
+    GameState,
+    Point,
+    RobotReport,
+    RobotView,
+    StrategyReport,
+    Teammate,
+    WorldState,
+)
+
+_TIME_JUMP = 1.0  # the clock going back by more than this means a restarted simulation: forget everything [s]
+
+
+class WorldModel:
+    """One robot's world model: feed it with the ``on_*`` methods, read it with ``snapshot``."""
+
+    def __init__(self, params: WorldModelParams, agent_id: int):
+        if not 1 <= agent_id <= params.team_size:
+            raise WorldModelError(f"agent_id must lie in 1..{params.team_size}, got {agent_id}")
+        self.params = params
+        self.agent_id = agent_id
+        self._keep = max(params.velocity_window, params.ball_timeout) + 0.1  # history kept per ball track [s]
+        self._clock = -math.inf
+        self._game = GameState()
+        self._forget()
+
+    def _forget(self) -> None:
+        self._vision: RobotView | None = None
+        self._own_track = BallTrack(self._keep)
+        self._mates: dict[int, RobotView] = {}
+        self._mate_tracks: dict[int, BallTrack] = {}
+        self._strategy: StrategyReport | None = None
+        self._mate_strategies: dict[int, StrategyReport] = {}
+        self._last_ball: Point | None = None
+
+    def _note_time(self, t: float) -> None:
+        if t < self._clock - _TIME_JUMP:
+            self._forget()
+            self._clock = t
+        else:
+            self._clock = max(self._clock, t)
+
+    def _teammate_id(self, agent_id: int, what: str) -> int:
+        if not 1 <= agent_id <= self.params.team_size:
+            raise WorldModelError(f"{what}: AgentID {agent_id} outside 1..{self.params.team_size}")
+        return agent_id
+
+    # --- inputs ---------------------------------------------------------------------------
+    def on_vision(self, t: float, robot: RobotReport, ball: BallObservation | None,
+                  obstacles: Sequence[Point] = ()) -> None:
+        """Own perception of the frame taken at ``t``; ``ball`` None when the ball is not seen."""
+        self._note_time(t)
+        robot = replace(robot, agent_id=self.agent_id)  # the sender's ID field may be unset on a real robot
+        self._vision = RobotView(t, robot, ball, tuple(obstacles))
+        if ball is not None:
+            self._own_track.add(ball)
+
+    def on_teammate(self, t: float, view: RobotView) -> bool:
+        """A teammate's shared state received at ``t``; False when ignored (this robot's own, or older)."""
+        aid = view.robot.agent_id
+        if aid == self.agent_id:
+            return False
+        self._teammate_id(aid, "teammate message")
+        self._note_time(t)
+        stamp = view.stamp if view.stamp > 0.0 else t
+        previous = self._mates.get(aid)
+        if previous is not None and previous.stamp - _TIME_JUMP <= stamp < previous.stamp:
+            return False
+        ball = view.ball
+        if ball is not None and ball.stamp <= 0.0:
+            ball = replace(ball, stamp=stamp)
+        self._mates[aid] = replace(view, stamp=stamp, ball=ball)
+        if ball is not None:
+            self._mate_tracks.setdefault(aid, BallTrack(self._keep)).add(ball)
+        return True
+
+    def on_coach(self, t: float, mode: int | str | bytes, match_type: int | str | bytes = 0,
+                 extras: CoachExtras | None = None) -> GameState:
+        """Apply a game command; an unknown MatchMode or MatchType raises and leaves the game state unchanged."""
+        command = parse_coach_command(mode, match_type, extras)
+        self._note_time(t)
+        self._game = next_game_state(self._game, t, command)
+        return self._game
+
+    def on_strategy(self, t: float, strategy: StrategyReport) -> None:
+        """This robot's own strategy (its role fields go into the state it shares)."""
+        if strategy.agent_id not in (0, self.agent_id):
+            raise WorldModelError(f"own strategy carries AgentID {strategy.agent_id}, this robot is {self.agent_id}")
+        self._note_time(t)
+        self._strategy = replace(strategy, agent_id=self.agent_id, stamp=strategy.stamp if strategy.stamp > 0 else t)
+
+    def on_teammate_strategy(self, t: float, strategy: StrategyReport) -> bool:
+        """A teammate's strategy received at ``t`` (for its pass command); False for this robot's own."""
+        if strategy.agent_id == self.agent_id:
+            return False
+        self._teammate_id(strategy.agent_id, "teammate strategy")
+        self._note_time(t)
+        self._mate_strategies[strategy.agent_id] = replace(strategy, stamp=strategy.stamp if strategy.stamp > 0 else t)
+        return True
+
+    # --- outputs --------------------------------------------------------------------------
+    @property
+    def game(self) -> GameState:
+        return self._game
+
+    def _own_report(self) -> RobotReport | None:
+        if self._vision is None:
+            return None
+        report = self._vision.robot
+        s = self._strategy
+        if s is not None:
+            report = replace(report, role=s.role, role_time=s.role_time, target_nums=s.target_nums,
+                             static_pass=s.static_pass, static_catch=s.static_catch)
+        return report
+
+    def _robot(self, t: float, agent_id: int) -> Teammate:
+        if agent_id == self.agent_id:
+            report, stamp = self._own_report(), self._vision.stamp if self._vision else -math.inf
+        else:
+            view = self._mates.get(agent_id)
+            report, stamp = (view.robot, view.stamp) if view else (None, -math.inf)
+        age = max(0.0, t - stamp)
+        valid = report is not None and report.valid and age <= self.params.teammate_timeout
+        return Teammate(agent_id, valid, age, report)
+
+    def _own_ball(self, t: float) -> BallObservation | None:
+        latest = self._own_track.latest
+        if latest is None or t - latest.stamp > self.params.ball_timeout:
+            return None
+        velocity = self._own_track.velocity(self.params.velocity_window, self.params.min_fit_samples)
+        vx, vy = velocity or (0.0, 0.0)
+        return replace(latest, vx=vx, vy=vy, velocity_known=velocity is not None)
+
+    def _mate_ball(self, t: float, agent_id: int) -> BallObservation | None:
+        view = self._mates.get(agent_id)
+        if view is None or view.ball is None or t - view.ball.stamp > self.params.ball_timeout:
+            return None
+        return view.ball
+
+    def own_view(self, t: float) -> RobotView | None:
+        """What this robot shares: its state (role fields from its strategy), its own fresh ball and obstacles."""
+        me = self._robot(t, self.agent_id)
+        if self._vision is None or me.report is None:
+            return None
+        fresh = t - self._vision.stamp <= self.params.ball_timeout
+        report = replace(me.report, valid=me.valid)
+        return RobotView(self._vision.stamp, report, self._own_ball(t), self._vision.obstacles if fresh else ())
+
+    def snapshot(self, t: float) -> WorldState:
+        """The fused world model at ``t`` (also remembers the last fused ball position)."""
+        self._note_time(t)
+        p = self.params
+        robots = tuple(self._robot(t, aid) for aid in range(1, p.team_size + 1))
+        me_pose = self._vision.robot.pose if self._vision else Pose2D()
+        mates = [r for r in robots if r.valid and r.agent_id != self.agent_id]
+        team_balls = tuple(self._own_ball(t) if aid == self.agent_id else
+                           self._mate_ball(t, aid) if robots[aid - 1].valid else None
+                           for aid in range(1, p.team_size + 1))
+        own_ball = team_balls[self.agent_id - 1]
+        own = (BallCandidate(self.agent_id, BallSource.OWN, own_ball, me_pose, max(0.0, t - own_ball.stamp))
+               if own_ball is not None else None)
+        team = [BallCandidate(m.agent_id, BallSource.TEAMMATE, ball, m.report.pose, max(0.0, t - ball.stamp))
+                for m in mates if (ball := team_balls[m.agent_id - 1]) is not None and m.report is not None]
+        ball = self._fuse_ball(choose_ball(own, team), [c for c in (own, *team) if c is not None], me_pose)
+        vision = self._vision
+        own_obstacles = vision.obstacles if vision is not None and t - vision.stamp <= p.ball_timeout else ()
+        obstacles = label_obstacles(
+            me_pose, self.agent_id, own_obstacles,
+            {m.agent_id: self._mates[m.agent_id].obstacles for m in mates},
+            {m.agent_id: (m.report.pose.x, m.report.pose.y) for m in mates if m.report is not None},
+            p.teammate_radius, p.obstacle_merge_radius)
+        strategies = [s for s in (self._strategy, *self._mate_strategies.values()) if s is not None]
+        pass_cmd = select_pass(self.agent_id, strategies, t, p.teammate_timeout, p.team_size)
+        return WorldState(t, self.agent_id, robots, ball, team_balls, obstacles, self._game, pass_cmd)
+
+    def _fuse_ball(self, chosen: BallCandidate | None, candidates: list[BallCandidate], me: Pose2D) -> FusedBall:
+        p = self.params
+        if chosen is None:
+            if self._last_ball is None:
+                return FusedBall(known=False)
+            x, y = self._last_ball
+            return FusedBall(False, x, y, angle=me.bearing_to(x, y), radius=me.distance_to(x, y))
+        obs = chosen.observation
+        if chosen.source is BallSource.OWN:
+            velocity = (obs.vx, obs.vy) if obs.velocity_known else None  # already fitted by _own_ball
+        else:
+            track = self._mate_tracks.get(chosen.agent_id)
+            velocity = track.velocity(p.velocity_window, p.min_fit_samples) if track is not None else None
+            if velocity is None and obs.velocity_known:
+                velocity = (obs.vx, obs.vy)  # the teammate's own fit
+        vx, vy = velocity or (0.0, 0.0)
+        seen_by = agreeing(candidates, obs.x, obs.y, p.ball_agreement_radius)
+        self._last_ball = (obs.x, obs.y)
+        return FusedBall(True, obs.x, obs.y, vx, vy, velocity is not None,
+                         ball_confidence(chosen.age, len(seen_by), p.ball_timeout, p.sighting_confidence),
+                         seen_by, chosen.source, chosen.agent_id, obs.stamp,
+                         me.bearing_to(obs.x, obs.y), me.distance_to(obs.x, obs.y))
