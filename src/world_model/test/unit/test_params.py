@@ -18,7 +18,7 @@ def test_shipped_config_holds_the_nubot_numbers():
     params = from_mapping(WorldModelParams, data)
     assert params == WorldModelParams(), "the YAML and the defaults agree"
     assert (params.team_size, params.teammate_timeout, params.ball_timeout) == (5, 0.3, 0.3)
-    assert (params.velocity_window, params.teammate_radius) == (0.3, 0.5)
+    assert (params.velocity_window, params.teammate_radius) == (0.5, 0.5)
 
 
 @pytest.mark.parametrize(("data", "message"), [
