@@ -39,15 +39,19 @@ def mode_of(msg: WorldModelInfo) -> tuple[MatchMode, MatchMode]:
 
 
 def team_state(msg: WorldModelInfo, agent_id: int, time: float, mode_since: float, goalie_id: int,
-               pass_plan: PassPlan | None) -> TeamState | None:
-    """The strategy's view of one WorldModelInfo; None while the robot does not know where it is."""
+               pass_plan: PassPlan | None, playing: set[int] | None = None) -> TeamState | None:
+    """The strategy's view of one WorldModelInfo; None while the robot does not know where it is.
+
+    ``playing`` holds the AgentIDs whose control is alive (their strategy is being relayed);
+    a teammate outside it is left out, so the others take over its role. None: everyone plays.
+    """
     index = agent_id - 1
     if index >= len(msg.robotinfo) or not msg.robotinfo[index].isvalid:
         return None
     mates = []
     me = None
     for i, info in enumerate(msg.robotinfo):
-        if not info.isvalid:
+        if not info.isvalid or (playing is not None and i != index and i + 1 not in playing):
             continue
         mate = Mate(i + 1, Pose2D(info.pos.x, info.pos.y, info.heading.theta), info.vtrans.x, info.vtrans.y,
                     _role(_char(info.current_role)), info.role_time, info.isdribble, True)
