@@ -1,0 +1,126 @@
+"""Team play over real ROS: two teams of three spawned by the spawner, driven by world_model + nubot_control."""
+
+import math
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+import yaml
+
+pytestmark = pytest.mark.integration
+
+ROOT = Path(__file__).resolve().parents[4]
+TEAM = {"robots": [{"x": -8.4, "y": 0.0, "theta": 0.0}, {"x": -1.5, "y": 1.0, "theta": 0.0},
+                   {"x": -3.0, "y": -2.0, "theta": 0.0}], "goalie": 1}
+
+
+class Watch:
+    def __init__(self):
+        import rospy
+
+        from nubot_common.msg import ModelStates, StrategyInfo
+
+        self.poses, self.roles = {}, {}
+        self.subs = [rospy.Subscriber("/sim_visual/model_states", ModelStates, self._states, queue_size=1)]
+        for name in ("nubot2", "nubot3"):
+            self.subs.append(rospy.Subscriber(f"/{name}/nubotcontrol/strategy", StrategyInfo,
+                                              lambda m, n=name: self.roles.__setitem__(n, (time.monotonic(), m.role)),
+                                              queue_size=1))
+
+    def _states(self, msg):
+        self.poses = {n: (p.position.x, p.position.y) for n, p in zip(msg.name, msg.pose)}
+
+    def wait(self, predicate, timeout, what):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if predicate():
+                return
+            time.sleep(0.1)
+        raise AssertionError(f"timed out after {timeout} s waiting for {what}; poses {self.poses}, roles {self.roles}")
+
+
+@pytest.fixture(scope="module")
+def match(ros_master, tmp_path_factory):
+    import rospy
+
+    folder = tmp_path_factory.mktemp("teams")
+    sim = ros_master.launch("match_sim", ["roslaunch", "sim_visual", "match.launch"])
+    rospy.wait_for_service("/sim_visual/spawn_model", timeout=60)
+    teams = []
+    for prefix, attack in (("nubot", 1), ("rival", -1)):
+        path = folder / f"{prefix}.yaml"
+        path.write_text(yaml.safe_dump({"name": prefix, "prefix": prefix, "attack": attack, **TEAM}))
+        teams.append(ros_master.launch(f"team_{prefix}", [sys.executable, str(ROOT / "scripts" / "spawn_team.py"),
+                                                          str(path)]))
+    watch = Watch()
+    sys.path.insert(0, str(ROOT / "scripts"))
+    from run_match import wait_for_robots
+
+    silent = wait_for_robots([f"{p}{k}" for p in ("nubot", "rival") for k in (1, 2, 3)], timeout=120)
+    assert not silent, f"robots without a world model: {silent}\n{teams[0].log_text()[-3000:]}"
+    yield ros_master, watch
+    for sub in watch.subs:
+        sub.unregister()
+    for process in (*teams, sim):
+        process.stop()
+    time.sleep(0.5)
+
+
+def coach(master, team, mode):
+    """The chapter's command line, as written (multi-line YAML), repeated at 10 Hz in the background."""
+    return subprocess.Popen(["rostopic", "pub", "-r", "10", f"/{team}/receive_from_coach", "nubot_common/CoachInfo",
+                             f"\nMatchMode: {mode}\nMatchType: 0 "], env=master.env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def stop(*processes):
+    for p in processes:
+        p.terminate()
+        p.wait(timeout=10)
+
+
+def test_our_kickoff_by_rostopic_pub_gives_the_kickoff_formation(match):
+    master, watch = match
+    pubs = coach(master, "nubot", 1), coach(master, "rival", 2)
+    try:
+        def formed():
+            p = watch.poses
+            if not p:
+                return False
+            ours_home = all(p[f"nubot{k}"][0] < 0.05 for k in (1, 2, 3))
+            taker = min(math.dist(p[f"nubot{k}"], p["football"]) for k in (2, 3)) < 0.8
+            theirs_out = all(math.dist(p[f"rival{k}"], p["football"]) > 2.0 and p[f"rival{k}"][0] > 0
+                             for k in (1, 2, 3))
+            return ours_home and taker and theirs_out
+        watch.wait(formed, 30, "the kickoff formation")
+    finally:
+        stop(*pubs)
+
+
+def test_after_start_the_teams_play_the_ball(match):
+    master, watch = match
+    start = watch.poses["football"]
+    pubs = coach(master, "nubot", 15), coach(master, "rival", 15)
+    try:
+        watch.wait(lambda: math.dist(watch.poses["football"], start) > 1.5, 40, "the ball to be played")
+    finally:
+        stop(*pubs)
+
+
+def test_killing_a_control_node_hands_its_role_to_a_teammate(match):
+    master, watch = match
+    pubs = coach(master, "nubot", 15), coach(master, "rival", 15)
+    try:
+        watch.wait(lambda: any(r == 1 for _, r in watch.roles.values()), 20, "an ACTIVE robot")
+        victim = next(n for n, (_, r) in watch.roles.items() if r == 1)
+        other = "nubot3" if victim == "nubot2" else "nubot2"
+        subprocess.run(["rosnode", "kill", f"/{victim}/nubot_control"], env=master.env, check=True,
+                       capture_output=True, timeout=20)
+        watch.wait(lambda: watch.roles[other][1] == 1 and time.monotonic() - watch.roles[other][0] < 1.0, 20,
+                   f"{other} to take over the ACTIVE role")
+        assert time.monotonic() - watch.roles[victim][0] > 1.0, "the killed node is silent"
+        watch.wait(lambda: watch.roles[other][1] == 1, 5, "the role to stay")
+    finally:
+        stop(*pubs)
