@@ -124,3 +124,26 @@ def test_killing_a_control_node_hands_its_role_to_a_teammate(match):
         watch.wait(lambda: watch.roles[other][1] == 1, 5, "the role to stay")
     finally:
         stop(*pubs)
+
+
+def test_running_match_graph_matches_the_topic_table(match):
+    import re
+    import xmlrpc.client
+
+    master, watch = match
+    text = (ROOT / "docs" / "topics.md").read_text().split("## Topics of a match")[1].split("## ")[0]
+    rows = [[c.strip().strip("`") for c in line.strip("|").split("|")] for line in text.splitlines()
+            if line.startswith("| `")]
+    code, _, (publishers, _subs, _services) = xmlrpc.client.ServerProxy(master.uri).getSystemState("/t")
+    published = {topic: set(nodes) for topic, nodes in publishers}
+    checked = 0
+    for topic, _type, producer, *_ in rows:
+        if topic.startswith(("/<T>/receive_from_coach", "/referee")):
+            continue  # the referee is not part of this world
+        for robot in ("nubot3", "rival2"):
+            team = robot.rstrip("0123456789")
+            name = topic.replace("<r>", robot).replace("<T>", team)
+            want = {re.sub(r"<r>", robot, p).replace("<T>", team) for p in re.findall(r"/[<>a-zA-Z_/]+", producer)}
+            assert published.get(name) == want, f"{name}: published by {published.get(name)}, table says {want}"
+            checked += 1
+    assert checked == 12
