@@ -1,15 +1,19 @@
 # The two commands: `make match` and `make test`. Each prepares the workspace first.
 SHELL := /bin/bash
 ROS := source devel/setup.bash &&
-MATCH_SECONDS ?= 60
+HALF_SECONDS ?= 90
+DEMO_SECONDS ?= 60
 
-.PHONY: setup match test unit integration bench lint clean
+.PHONY: setup match demo test unit integration bench lint clean
 
 setup:
 	@bash scripts/setup.sh
 
 match: setup
-	@$(ROS) python scripts/run_demo.py --sim-seconds $(MATCH_SECONDS)
+	@$(ROS) python scripts/run_match.py --half-seconds $(HALF_SECONDS)
+
+demo: setup
+	@$(ROS) python scripts/run_demo.py --sim-seconds $(DEMO_SECONDS)
 
 test: setup
 	@$(ROS) python -m pytest

@@ -119,10 +119,12 @@ def main(argv: list[str] | None = None) -> int:
         if silent:
             print(f"  robots without a world model after 180 s: {', '.join(silent)}; playing on", flush=True)
         print(f"  {len(names) - len(silent)} robots ready; kick-off", flush=True)
-        teams_param = "[" + ", ".join(f"{{prefix: {c.prefix}, attack: {c.attack}}}" for c in configs) + "]"
+        teams_yaml = out / "referee_teams.yaml"
+        teams_yaml.write_text("teams:\n" + "".join(f"  - {{prefix: {c.prefix}, attack: {c.attack}}}\n"
+                                                     for c in configs))
         referee = master.launch("referee", ["roslaunch", "--skip-log-check", "coach4sim", "referee.launch",
                                             f"half_duration:={args.half_seconds}", f"halves:={args.halves}",
-                                            f"teams:={teams_param}"])
+                                            f"config:={teams_yaml}"])
         watcher = GameWatcher()
         wall_start, last_line = time.monotonic(), 0.0
         limit = 120.0 + 3.0 * game_seconds / max(args.real_time_factor, 0.05)
