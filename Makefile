@@ -26,6 +26,7 @@ integration: setup
 
 bench: setup
 	@$(ROS) python scripts/bench_sim.py --out bench/results
+	@$(ROS) python scripts/bench_match.py --out bench/results
 
 lint: setup
 	@.venv/bin/ruff check src scripts

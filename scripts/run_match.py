@@ -12,6 +12,7 @@ trajectories.png) from the bag alone.
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
 import time
@@ -57,6 +58,87 @@ class GameWatcher:
         return f"  sim {_clock(self.clock)} | half {s.half} {_clock(s.game_time)} | {score} | {status}"
 
 
+class PerfMonitor:
+    """Measures a running match: real-time factor, each robot's control rate, CPU and memory per node kind."""
+
+    KINDS = ("sim_visual_node", "world_model_node", "nubot_control_node", "sim_interface", "referee", "record",
+             "rosmaster", "rosout")
+
+    def __init__(self, robots: list[str], launched: list, rate: float = 33.0) -> None:
+        import rospy
+
+        from nubot_common.msg import StrategyInfo
+
+        self.rate = rate
+        self.launched = launched
+        self.counts = dict.fromkeys(robots, 0)
+        self.subs = [rospy.Subscriber(f"/{r}/nubotcontrol/strategy", StrategyInfo,
+                                      lambda _m, r=r: self._count(r), queue_size=50) for r in robots]
+        self.samples: list[dict[str, float]] = []
+        self.start: tuple[float, float] | None = None
+
+    def _count(self, robot: str) -> None:
+        if self.start is not None:
+            self.counts[robot] += 1
+
+    def _processes(self):
+        import psutil
+
+        procs = []
+        for launched in self.launched:
+            try:
+                root = psutil.Process(launched.process.pid)
+                procs += [root, *root.children(recursive=True)]
+            except psutil.NoSuchProcess:
+                continue
+        return procs
+
+    def begin(self, clock: float) -> None:
+        for proc in self._processes():
+            try:
+                proc.cpu_percent(None)
+            except Exception:  # noqa: BLE001 - a process may end between listing and asking
+                pass
+        self.counts = dict.fromkeys(self.counts, 0)
+        self.start = (time.monotonic(), clock)
+
+    def sample(self) -> None:
+        kinds: dict[str, float] = {}
+        memory = 0.0
+        for proc in self._processes():
+            try:
+                cmd = " ".join(proc.cmdline())
+                cpu = proc.cpu_percent(None) / 100.0
+                memory += proc.memory_info().rss
+            except Exception:  # noqa: BLE001
+                continue
+            kind = next((k for k in self.KINDS if k in cmd), "other")
+            kinds[kind] = kinds.get(kind, 0.0) + cpu
+        kinds["rss_mib"] = memory / 2**20
+        self.samples.append(kinds)
+
+    def result(self, clock: float) -> dict:
+        assert self.start is not None
+        wall, sim = time.monotonic() - self.start[0], clock - self.start[1]
+        expected = self.rate * sim
+        rates = {r: n / sim for r, n in self.counts.items()} if sim > 0 else {}
+        samples = self.samples[1:] or self.samples
+        kinds = sorted({k for s in samples for k in s} - {"rss_mib"})
+        cpu = {k: round(sum(s.get(k, 0.0) for s in samples) / len(samples), 3) for k in kinds}
+        return {
+            "wall_seconds": round(wall, 1), "sim_seconds": round(sim, 1),
+            "achieved_real_time_factor": round(sim / wall, 3) if wall > 0 else None,
+            "control_rate_hz": {r: round(v, 2) for r, v in rates.items()},
+            "control_rate_min_hz": round(min(rates.values()), 2) if rates else None,
+            "missed_cycles": {r: max(0, round(expected - n)) for r, n in self.counts.items()},
+            "missed_cycle_share": round(1 - sum(self.counts.values()) / (expected * len(self.counts)), 4)
+            if expected > 0 else None,
+            "cpu_cores_by_kind": cpu, "cpu_cores_total": round(sum(cpu.values()), 2),
+            "rss_mib_total": round(max(s["rss_mib"] for s in samples), 1),
+            "cpus": os.cpu_count(),
+        }
+
+
 def _clock(seconds: float) -> str:
     return f"{int(seconds // 60):02d}:{seconds % 60:04.1f}"
 
@@ -87,6 +169,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--team", action="append", type=Path, help="team YAML (twice); default nubot and rival")
     parser.add_argument("--out", type=Path, default=ROOT / "matches")
     parser.add_argument("--no-report", action="store_true")
+    parser.add_argument("--perf-json", type=Path, help="measure real-time factor, control rates, CPU and memory")
     args = parser.parse_args(argv)
     teams = args.team or [TEAMS / "nubot.yaml", TEAMS / "rival.yaml"]
     if len(teams) != 2:
@@ -126,6 +209,8 @@ def main(argv: list[str] | None = None) -> int:
                                             f"half_duration:={args.half_seconds}", f"halves:={args.halves}",
                                             f"config:={teams_yaml}"])
         watcher = GameWatcher()
+        perf = PerfMonitor(names, master.children) if args.perf_json else None
+        perf_started = False
         wall_start, last_line = time.monotonic(), 0.0
         limit = 120.0 + 3.0 * game_seconds / max(args.real_time_factor, 0.05)
         while True:
@@ -141,11 +226,25 @@ def main(argv: list[str] | None = None) -> int:
             if time.monotonic() - last_line >= 5.0:
                 last_line = time.monotonic()
                 print(watcher.line(), flush=True)
+                if perf is not None:
+                    if perf_started:
+                        perf.sample()
+                    elif s is not None:
+                        perf.begin(watcher.clock)
+                        perf_started = True
             time.sleep(0.1)
         print(watcher.line(), flush=True)
         elapsed = time.monotonic() - wall_start
         print(f"  full time after {elapsed:.0f} s wall ({watcher.clock / max(elapsed, 1e-6):.2f} x real time); "
               "closing the bag", flush=True)
+        if perf is not None and perf_started:
+            figures = perf.result(watcher.clock)
+            args.perf_json.parent.mkdir(parents=True, exist_ok=True)
+            args.perf_json.write_text(json.dumps(figures, indent=2))
+            print(f"  performance: real-time factor {figures['achieved_real_time_factor']}, slowest control loop "
+                  f"{figures['control_rate_min_hz']} Hz, missed cycles {100 * figures['missed_cycle_share']:.1f} %, "
+                  f"CPU {figures['cpu_cores_total']} of {figures['cpus']} cores, memory {figures['rss_mib_total']} MiB",
+                  flush=True)
         recorder.stop(timeout=20)
         rospy.signal_shutdown("match over")
     if args.no_report:

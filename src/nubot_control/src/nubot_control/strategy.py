@@ -165,6 +165,10 @@ class Strategy:
             if state.me.holding:
                 return bh.attack(state, self.params), roles, (0, 0)
             return bh.chase_ball(state, self.params), roles, (0, 0)
+        if role == Role.MIDFIELD:
+            threat = _most_dangerous_opponent(state)
+            if threat is not None:
+                return bh.mark(state, threat, self.params), roles, (0, 0)
         return bh.support(state, role, self.params), roles, (0, 0)
 
     def _obstacles(self, state: TeamState, intent: bh.Intent) -> list[tuple[float, float]]:
@@ -173,3 +177,10 @@ class Strategy:
             obstacles.append((state.ball.x, state.ball.y))  # walk around the ball, not through it
         return obstacles
 
+
+
+def _most_dangerous_opponent(state: TeamState) -> tuple[float, float] | None:
+    """The opponent nearest the own goal inside the own half and away from the ball, if any."""
+    candidates = [o for o in state.opponents
+                  if o[0] < 0.0 and math.hypot(o[0] - state.ball.x, o[1] - state.ball.y) > 2.0]
+    return min(candidates, key=lambda o: o[0], default=None)

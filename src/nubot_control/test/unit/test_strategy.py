@@ -2,6 +2,8 @@
 
 import math
 
+import pytest
+
 from nubot_common.match_mode import MatchMode
 from nubot_control.roles import Role
 
@@ -54,3 +56,23 @@ def test_stop_halts_every_robot(make_match):
     for name in match.strategies:
         s = match.sim.world.robot_state(name)
         assert math.hypot(s.vx, s.vy) < 0.05, f"{name} still moves"
+
+
+def test_the_midfielder_marks_an_opponent_lurking_in_our_half():
+    from nubot_common.geometry import Pose2D
+    from nubot_control.behaviours import Action
+    from nubot_control.params import ControlParams
+    from nubot_control.strategy import Strategy
+    from nubot_control.team_state import Ball, Mate, TeamState
+
+    # With the ball at (4, 0) the support spots are: passive (-3.2, 0), assistant (6.5, 3), midfield (1.5, -2.5).
+    mates = (Mate(1, Pose2D(-8.5, 0, 0)), Mate(2, Pose2D(3.5, 0, 0)), Mate(3, Pose2D(6, 3, 0)),
+             Mate(5, Pose2D(-3, 0, 0)))
+    me = Mate(4, Pose2D(1.5, -2.4, 0))
+    lurker = (-5.0, -2.0)
+    state = TeamState(1.0, me, mates, Ball(4.0, 0.0), (lurker, (5.0, 1.0)), MatchMode.STARTROBOT)
+    out = Strategy(ControlParams(), 4).step(state)
+    assert out.role == Role.MIDFIELD and out.action == Action.MARK
+    # Between the lurker and the own goal, 1 m from the lurker.
+    assert math.dist(out.target, lurker) == pytest.approx(1.0)
+    assert -9.0 < out.target[0] < lurker[0]
