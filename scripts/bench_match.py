@@ -13,13 +13,11 @@ from __future__ import annotations
 import argparse
 import json
 import statistics
+import subprocess
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "scripts"))
-
-import run_match  # noqa: E402
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -33,8 +31,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"[bench] match with seed {seed}: 1 x {args.half_seconds:.0f} s at real time", flush=True)
         perf_file = args.out / f"match_perf_seed{seed}.json"
         folder = args.out / "matches"
-        status = run_match.main(["--half-seconds", str(args.half_seconds), "--halves", "1", "--seed", str(seed),
-                                 "--out", str(folder), "--perf-json", str(perf_file)])
+        status = subprocess.run([sys.executable, str(ROOT / "scripts" / "run_match.py"), "--half-seconds",
+                                 str(args.half_seconds), "--halves", "1", "--seed", str(seed), "--out", str(folder),
+                                 "--perf-json", str(perf_file)]).returncode
         latest = max(folder.iterdir(), key=lambda p: p.stat().st_mtime)
         report = json.loads((latest / "report.json").read_text())
         perf = json.loads(perf_file.read_text())

@@ -72,10 +72,11 @@ class PerfMonitor:
         self.rate = rate
         self.launched = launched
         self.counts = dict.fromkeys(robots, 0)
-        self.subs = [rospy.Subscriber(f"/{r}/nubotcontrol/strategy", StrategyInfo,
-                                      lambda _m, r=r: self._count(r), queue_size=50) for r in robots]
         self.samples: list[dict[str, float]] = []
         self.start: tuple[float, float] | None = None
+        self._known: dict[int, object] = {}  # psutil measures CPU between two calls on the same Process object
+        self.subs = [rospy.Subscriber(f"/{r}/nubotcontrol/strategy", StrategyInfo,
+                                      lambda _m, r=r: self._count(r), queue_size=50) for r in robots]
 
     def _count(self, robot: str) -> None:
         if self.start is not None:
@@ -91,7 +92,7 @@ class PerfMonitor:
                 procs += [root, *root.children(recursive=True)]
             except psutil.NoSuchProcess:
                 continue
-        return procs
+        return [self._known.setdefault(p.pid, p) for p in procs]
 
     def begin(self, clock: float) -> None:
         for proc in self._processes():
