@@ -1,0 +1,316 @@
+"""The automatic referee: MSL restart rules applied to snapshots of the simulated world.
+
+Requires: ``RefereeParams`` (field geometry [m], times [s]), a ``GameController``
+and, each update, a ``WorldSnapshot`` (sim time [s], ball centre and robot positions
+in the world frame [m], the last robot to touch the ball, and the goals, kicks and
+touches seen since the previous snapshot).
+Provides: ``AutomaticReferee.update(snapshot)`` -> ``RefereeDecision | None``: the
+commands now in force for each team (in its own view, OUR_/OPP_ mirrored), where to
+place the ball (world frame [m], at rest) and the decision in words. The referee
+applies each decision to the game itself (score, commands, half, last event).
+
+Rules (MSL, simplified where noted): kickoff for the first team at the start; goal ->
+score and kickoff for the conceding team; ball wholly over a side line -> throw-in for
+the team that did not touch it last; over a goal line outside the goal -> goal kick
+(attacker touched last) or corner kick (defender touched last); no known last toucher
+-> dropped ball; a contested ball that does not move -> dropped ball; a restart not
+taken in time -> dropped ball; the end of a half -> STOPROBOT, then the next half's
+kickoff for the other team after a break. Each restart is the set-piece command with
+the ball placed, then STARTROBOT after ``setup_time``. Teams do not change ends.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from enum import Enum
+
+from coach4sim.game import GameController, half_name
+from coach4sim.params import RefereeParams
+from nubot_common.match_mode import MatchMode, parse_match_mode
+
+
+@dataclass(frozen=True)
+class GoalSeen:
+    """A goal event from the simulator: the goal at +x (side 1) or -x (-1), and who touched the ball last."""
+
+    side: int
+    last_touch: str = ""
+
+
+@dataclass(frozen=True)
+class WorldSnapshot:
+    """What the referee sees at one moment (world frame, SI units)."""
+
+    time: float  # sim time [s]
+    ball: tuple[float, float, float]  # ball centre [m]
+    robots: Mapping[str, tuple[float, float]] = field(default_factory=dict)  # robot positions by model name [m]
+    last_touch: str = ""  # model name of the robot that touched the ball last ("" unknown)
+    goals: tuple[GoalSeen, ...] = ()  # goals since the previous snapshot
+    kicks: tuple[str, ...] = ()  # robots that kicked the ball since the previous snapshot
+    touches: tuple[str, ...] = ()  # robots that became the last to touch it since the previous snapshot
+
+
+@dataclass(frozen=True)
+class RefereeDecision:
+    commands: tuple[tuple[str, MatchMode], ...]  # (team, command in that team's view), every team
+    ball: tuple[float, float] | None  # place the ball here, at rest (world frame [m]); None leaves it
+    event: str  # the decision in words
+
+
+class Phase(Enum):
+    WAITING = "waiting for the match to start"
+    SETUP = "teams set up for a restart"
+    PLAY = "ball in play"
+    STOPPED = "stopped by hand"
+    HALF_TIME = "half-time break"
+    FINISHED = "match over"
+
+
+def _sign(value: float) -> int:
+    return 1 if value >= 0.0 else -1
+
+
+def _goal_name(side: int) -> str:
+    return "+x" if side > 0 else "-x"
+
+
+class AutomaticReferee:
+    def __init__(self, params: RefereeParams, game: GameController):
+        self.params, self.game = params, game
+        self.phase = Phase.WAITING
+        self.first_kickoff_side = game.teams[0].spec.attack
+        self._start_at = 0.0  # SETUP: STARTROBOT at this sim time [s]
+        self._resume_at = 0.0  # HALF_TIME: next half's kickoff at this sim time [s]
+        self._restart_side: int | None = None  # the side attacked by the team taking the restart
+        self._restart_name = ""  # e.g. "throw-in"
+        self._pending = False  # PLAY: the restart has not been taken yet
+        self._deadline = 0.0  # ... and must be by this sim time [s]
+        self._ball_ref: tuple[float, float] | None = None  # where the ball was when play resumed
+        self._stuck_since: tuple[float, float, float] | None = None  # (x, y, t) of a contested, still ball
+        self._between_halves = True  # before the match or in a half-time break (also when stopped there)
+        self._last_ball: tuple[float, float] | None = None  # where the ball was at the latest update
+
+    # --- the rules ----------------------------------------------------------------------------
+    def update(self, snap: WorldSnapshot) -> RefereeDecision | None:
+        """Apply the rules to ``snap``; return the decision taken, if any."""
+        self.game.tick(snap.time)
+        self._last_ball = (snap.ball[0], snap.ball[1])
+        if self.phase is Phase.WAITING:
+            return self._start_half(1, snap.time)
+        if self.phase is Phase.HALF_TIME and snap.time >= self._resume_at:
+            return self._start_half(self.game.half + 1, snap.time)
+        if self.phase is Phase.SETUP and snap.time >= self._start_at:
+            return self._start_play(snap.time)
+        if self.phase is Phase.PLAY:
+            return self._judge(snap)
+        return None
+
+    def _judge(self, snap: WorldSnapshot) -> RefereeDecision | None:
+        p, f = self.params, self.params.field
+        x, y, z = snap.ball
+        goal_side = snap.goals[0].side if snap.goals else self._goal_by_geometry(x, y, z)
+        goal_text = ""
+        if goal_side is not None:
+            toucher = snap.goals[0].last_touch if snap.goals and snap.goals[0].last_touch else snap.last_touch
+            scorer = self.game.goal(goal_side)
+            goal_text = (f"goal for {scorer or 'the absent opponents'} in the goal at {_goal_name(goal_side)} "
+                         f"(last touch {toucher or 'nobody'}), score {self.game.score_text()}")
+        if self.game.game_time >= p.half_duration:
+            return self._end_half(snap.time, goal_text)
+        if goal_side is not None:
+            return self._restart(snap.time, -goal_side, MatchMode.OUR_KICKOFF, (0.0, 0.0), f"{goal_text}: ")
+        over_side = abs(y) - (f.half_width + p.ball_radius)
+        over_goal = abs(x) - (f.half_length + p.ball_radius)
+        if over_side > 0.0 and over_side >= over_goal:
+            return self._ball_out_over_side_line(snap)
+        if over_goal > 0.0:
+            return self._ball_out_over_goal_line(snap)
+        if self._ball_ref is None:
+            self._ball_ref = (x, y)
+        if self._pending:
+            return self._check_restart_taken(snap)
+        return self._check_stuck(snap)
+
+    def _goal_by_geometry(self, x: float, y: float, z: float) -> int | None:
+        """A goal the simulator's event has not reported yet: the whole ball beyond the line, inside the mouth."""
+        f, r = self.params.field, self.params.ball_radius
+        if abs(x) > f.half_length + r and f.is_in_goal_mouth(y, z, r):
+            return _sign(x)
+        return None
+
+    def _ball_out_over_side_line(self, snap: WorldSnapshot) -> RefereeDecision:
+        p, f = self.params, self.params.field
+        x, y, _ = snap.ball
+        where = f"ball out over the side line at x={x:+.2f} y={y:+.2f} (last touch {snap.last_touch or 'nobody'})"
+        toucher_side = self._attack_of(snap.last_touch)
+        if toucher_side is None:
+            return self._drop_ball(snap.time, (x, y), f"{where}, no team to blame: ")
+        limit = f.half_length - p.restart_margin
+        spot = (min(max(x, -limit), limit), _sign(y) * (f.half_width - p.throw_in_inset))
+        return self._restart(snap.time, -toucher_side, MatchMode.OUR_THROWIN, spot, f"{where}: ")
+
+    def _ball_out_over_goal_line(self, snap: WorldSnapshot) -> RefereeDecision:
+        p, f = self.params, self.params.field
+        x, y, _ = snap.ball
+        side, lateral = _sign(x), _sign(y)
+        where = (f"ball out over the goal line at {_goal_name(side)}, y={y:+.2f} "
+                 f"(last touch {snap.last_touch or 'nobody'})")
+        toucher_side = self._attack_of(snap.last_touch)
+        if toucher_side is None:
+            return self._drop_ball(snap.time, (x, y), f"{where}, no team to blame: ")
+        if toucher_side == side:  # an attacker played it out: goal kick for the defenders
+            spot = (side * (f.half_length - f.goal_area_length - p.goal_kick_distance),
+                    lateral * f.goal_area_width / 2.0)
+            return self._restart(snap.time, -side, MatchMode.OUR_GOALKICK, spot, f"{where}: ")
+        spot = (side * (f.half_length - p.corner_inset), lateral * (f.half_width - p.corner_inset))
+        return self._restart(snap.time, side, MatchMode.OUR_CORNERKICK, spot, f"{where}: ")
+
+    def _check_restart_taken(self, snap: WorldSnapshot) -> RefereeDecision | None:
+        p = self.params
+        team = self.game.team_attacking(self._restart_side) if self._restart_side is not None else None
+        played = any(team is not None and self.game.team_of_robot(r) == team for r in (*snap.kicks, *snap.touches))
+        ref = self._ball_ref or (snap.ball[0], snap.ball[1])
+        moved = math.hypot(snap.ball[0] - ref[0], snap.ball[1] - ref[1]) > p.in_play_distance
+        if played or moved:
+            self._pending = False
+            self._stuck_since = None
+            return None
+        if snap.time >= self._deadline:
+            who = team or "the absent opponents"
+            return self._drop_ball(snap.time, snap.ball[:2],
+                                   f"{who} did not take the {self._restart_name} within {p.restart_timeout:.0f} s: ")
+        return None
+
+    def _check_stuck(self, snap: WorldSnapshot) -> RefereeDecision | None:
+        p = self.params
+        x, y, _ = snap.ball
+        teams_near = {self.game.team_of_robot(name) for name, (rx, ry) in snap.robots.items()
+                      if math.hypot(rx - x, ry - y) <= p.stuck_radius}
+        contested = len(self.game.teams) == 2 and set(self.game.team_names) <= teams_near
+        if not contested:
+            self._stuck_since = None
+            return None
+        if self._stuck_since is None or math.hypot(x - self._stuck_since[0], y - self._stuck_since[1]) > \
+                p.stuck_distance:
+            self._stuck_since = (x, y, snap.time)
+            return None
+        if snap.time - self._stuck_since[2] >= p.stuck_time:
+            return self._drop_ball(snap.time, (x, y), f"ball stuck between the teams at ({x:+.2f}, {y:+.2f}) for "
+                                                      f"{p.stuck_time:.0f} s: ")
+        return None
+
+    # --- the sequences --------------------------------------------------------------------------
+    def _start_half(self, half: int, now: float) -> RefereeDecision:
+        self.game.start_half(half)
+        self._between_halves = False
+        side = self.first_kickoff_side if half % 2 else -self.first_kickoff_side
+        return self._restart(now, side, MatchMode.OUR_KICKOFF, (0.0, 0.0), f"the {half_name(half)} begins: ")
+
+    def _restart(self, now: float, side: int, mode: MatchMode, spot: tuple[float, float],
+                 reason: str) -> RefereeDecision:
+        """Give the set piece ``mode`` to the team attacking ``side`` and place the ball at ``spot``."""
+        self.game.award(side, mode)
+        self._enter_setup(now, side, _restart_name(mode))
+        team = self.game.team_attacking(side) or "the absent opponents"
+        return self._decide((spot[0], spot[1]), f"{reason}{_restart_name(mode)} for {team}")
+
+    def _drop_ball(self, now: float, at: tuple[float, float], reason: str) -> RefereeDecision:
+        f, m = self.params.field, self.params.restart_margin
+        spot = (min(max(at[0], -(f.half_length - m)), f.half_length - m),
+                min(max(at[1], -(f.half_width - m)), f.half_width - m))
+        self.game.send_all(MatchMode.DROPBALL)
+        self._enter_setup(now, None, "dropped ball")
+        return self._decide(spot, f"{reason}dropped ball")
+
+    def _enter_setup(self, now: float, side: int | None, name: str) -> None:
+        self.phase = Phase.SETUP
+        self._start_at = now + self.params.setup_time
+        self._restart_side, self._restart_name = side, name
+        self._pending = False
+        self._ball_ref = self._stuck_since = None
+
+    def _start_play(self, now: float) -> RefereeDecision:
+        self.game.send_all(MatchMode.STARTROBOT)
+        self.phase = Phase.PLAY
+        self._pending = self._restart_side is not None
+        self._deadline = now + self.params.restart_timeout
+        self._ball_ref, self._stuck_since = self._last_ball, None
+        return self._decide(None, f"STARTROBOT: play on after the {self._restart_name}")
+
+    def _end_half(self, now: float, goal_text: str) -> RefereeDecision:
+        self.game.send_all(MatchMode.STOPROBOT)
+        prefix = f"{goal_text}; " if goal_text else ""
+        if self.game.half < self.params.halves:
+            self.phase = Phase.HALF_TIME
+            self._between_halves = True
+            self._resume_at = now + self.params.half_time_break
+            text = f"{prefix}end of the {half_name(self.game.half)} ({self.game.score_text()})"
+        else:
+            self.phase = Phase.FINISHED
+            text = f"{prefix}end of the match ({self.game.score_text()})"
+        return self._decide(None, text)
+
+    def _decide(self, ball: tuple[float, float] | None, event: str) -> RefereeDecision:
+        self.game.last_event = event
+        commands = tuple((t.spec.prefix, t.mode) for t in self.game.teams)
+        return RefereeDecision(commands, ball, event)
+
+    # --- manual commands -------------------------------------------------------------------------
+    def manual_command(self, team: str, mode: MatchMode | int | str, now: float) -> str:
+        """Apply a command given by hand (raises, changing nothing, if it is invalid); return it in words.
+
+        A set piece or a dropped ball is followed by STARTROBOT after ``setup_time``; STARTROBOT
+        puts the ball in play; STOPROBOT (or PARKINGROBOT, TEST) holds the automatic referee until
+        the next manual restart. After the match, commands only reach the teams.
+        """
+        status = self.game.status(team)  # validate both before changing anything
+        parsed = parse_match_mode(mode)
+        self.game.tick(now)
+        text = f"by hand: {self.game.command(team, parsed)}"
+        self.game.last_event = text
+        if self.phase is Phase.FINISHED:
+            return text
+        if self._between_halves and (parsed == MatchMode.STARTROBOT or parsed.is_set_play):
+            self.game.start_half(self.game.half + 1)
+            self._between_halves = False
+        if parsed == MatchMode.STARTROBOT:
+            if self.phase is not Phase.SETUP:
+                self._restart_side, self._restart_name = None, "command by hand"
+            self._start_play(now)
+            self.game.last_event = text
+        elif parsed.is_set_play:
+            side = None
+            if parsed != MatchMode.DROPBALL:
+                side = status.spec.attack if parsed.value % 2 else -status.spec.attack
+            self._enter_setup(now, side, _restart_name(parsed))
+        else:
+            self.phase = Phase.STOPPED
+        return text
+
+    @property
+    def restart_pending(self) -> bool:
+        """Play is on but the team awarded the restart has not played the ball yet."""
+        return self.phase is Phase.PLAY and self._pending
+
+    @property
+    def attack_sides(self) -> dict[str, int]:
+        return {t.spec.prefix: t.spec.attack for t in self.game.teams}
+
+    def _attack_of(self, robot: str) -> int | None:
+        team = self.game.team_of_robot(robot) if robot else None
+        return self.attack_sides[team] if team is not None else None
+
+
+_RESTART_NAMES = {
+    MatchMode.OUR_KICKOFF: "kickoff", MatchMode.OUR_THROWIN: "throw-in", MatchMode.OUR_PENALTY: "penalty",
+    MatchMode.OUR_GOALKICK: "goal kick", MatchMode.OUR_CORNERKICK: "corner kick",
+    MatchMode.OUR_FREEKICK: "free kick", MatchMode.DROPBALL: "dropped ball",
+}
+
+
+def _restart_name(mode: MatchMode) -> str:
+    """The restart in words, e.g. ``OUR_THROWIN`` -> ``throw-in`` (OPP_ names the same restart)."""
+    our = mode if mode.value % 2 or not mode.is_set_play or mode == MatchMode.DROPBALL else mode.mirrored()
+    return _RESTART_NAMES.get(our, mode.name)

@@ -1,0 +1,236 @@
+"""Unit tests of the automatic referee (coach4sim.referee) on hand-made situations, 18 x 12 m field."""
+
+import pytest
+
+from coach4sim.referee import GoalSeen, Phase
+from nubot_common import NubotCommonError
+from nubot_common.match_mode import MatchMode
+
+
+def restart_for(team: str, name: str) -> dict:
+    """Both teams' commands when ``team`` gets the set piece ``name`` (e.g. THROWIN)."""
+    other = "rival" if team == "nubot" else "nubot"
+    return {team: f"OUR_{name}", other: f"OPP_{name}"}
+
+
+def test_the_match_starts_with_a_kickoff_for_the_first_team_and_startrobot_after_setup_time(match):
+    decision = match.step()
+    assert match.modes() == restart_for("nubot", "KICKOFF")
+    assert decision.ball == (0.0, 0.0)
+    assert "kickoff for nubot" in decision.event and match.game.half == 1
+    assert match.run(3.75) == [], "nothing before setup_time"
+    assert not match.game.running
+    start = match.step(0.25)
+    assert start.commands == (("nubot", MatchMode.STARTROBOT), ("rival", MatchMode.STARTROBOT))
+    assert start.ball is None and match.game.running
+    assert match.game.status("nubot").previous.name == "OUR_KICKOFF"
+
+
+@pytest.mark.parametrize(("ball", "toucher", "team", "spot"), [
+    ((3.0, 6.2), "nubot1", "rival", (3.0, 5.9)),  # over y = +6, nubot touched last
+    ((3.0, 6.2), "rival4", "nubot", (3.0, 5.9)),
+    ((-8.7, -6.3), "rival2", "nubot", (-8.0, -5.9)),  # over y = -6, x clamped 1 m inside the goal line
+    ((-8.7, -6.3), "nubot5", "rival", (-8.0, -5.9)),
+])
+def test_throw_in_goes_to_the_team_that_did_not_touch_last(match, ball, toucher, team, spot):
+    match.kickoff_and_play()
+    match.ball = (*ball, 0.11)
+    decision = match.step(0.25, last_touch=toucher)
+    assert match.modes() == restart_for(team, "THROWIN")
+    assert decision.ball == pytest.approx(spot)
+    assert f"throw-in for {team}" in decision.event and toucher in decision.event
+    assert match.game.last_event == decision.event
+
+
+def test_a_ball_on_the_side_line_is_still_in(match):
+    match.kickoff_and_play()
+    match.ball = (0.0, 6.0 + 0.11 - 0.01, 0.11)  # centre beyond the line, but not the whole ball
+    assert match.step(0.25, last_touch="nubot1") is None
+    assert match.game.running
+
+
+@pytest.mark.parametrize(("ball", "toucher", "mode", "team", "spot"), [
+    ((9.2, 3.0, 0.11), "nubot1", "GOALKICK", "rival", (7.25, 1.75)),  # attacker of +x played it out
+    ((9.2, 3.0, 0.11), "rival1", "CORNERKICK", "nubot", (8.75, 5.75)),  # defender of +x played it out
+    ((-9.3, -2.0, 0.11), "rival1", "GOALKICK", "nubot", (-7.25, -1.75)),
+    ((-9.3, -2.0, 0.11), "nubot2", "CORNERKICK", "rival", (-8.75, -5.75)),
+    ((9.3, 0.0, 1.5), "nubot3", "GOALKICK", "rival", (7.25, 1.75)),  # over the bar
+])
+def test_goal_line_gives_a_goal_kick_or_a_corner_by_last_touch(match, ball, toucher, mode, team, spot):
+    match.kickoff_and_play()
+    match.ball = ball
+    decision = match.step(0.25, last_touch=toucher)
+    assert match.modes() == restart_for(team, mode)
+    assert decision.ball == pytest.approx(spot)
+    assert match.game.state().score == (0, 0)
+
+
+def test_goal_scores_and_the_conceding_team_kicks_off_from_the_centre(match):
+    match.kickoff_and_play()
+    match.ball = (9.3, 0.2, 0.11)
+    decision = match.step(0.25, goals=(GoalSeen(1, "nubot1"),))
+    assert match.game.state().score == (1, 0)
+    assert match.modes() == restart_for("rival", "KICKOFF")
+    assert decision.ball == (0.0, 0.0)
+    assert "goal for nubot" in decision.event and "kickoff for rival" in decision.event
+    match.step(0.25, goals=(GoalSeen(1, "nubot1"),))  # a late duplicate while the teams set up
+    assert match.game.state().score == (1, 0)
+
+
+def test_own_goal_counts_for_the_other_team(match):
+    match.kickoff_and_play()
+    match.ball = (-9.3, 0.0, 0.11)
+    match.step(0.25, goals=(GoalSeen(-1, "nubot2"),))
+    assert match.game.state().score == (0, 1)
+    assert match.modes() == restart_for("nubot", "KICKOFF")
+
+
+def test_goal_is_seen_by_geometry_before_the_simulator_reports_it(match):
+    match.kickoff_and_play()
+    match.ball = (-9.2, 0.5, 0.3)
+    decision = match.step(0.25, last_touch="rival1")
+    assert match.game.state().score == (0, 1)
+    assert "kickoff for nubot" in decision.event
+
+
+def test_out_with_no_known_toucher_is_a_dropped_ball_inside_the_field(match):
+    match.kickoff_and_play()
+    match.ball = (8.9, -6.4, 0.11)
+    decision = match.step(0.25, last_touch="")
+    assert match.modes() == {"nubot": "DROPBALL", "rival": "DROPBALL"}
+    assert decision.ball == pytest.approx((8.0, -5.0))
+
+
+def test_contested_ball_that_does_not_move_is_dropped(match):
+    match.kickoff_and_play()
+    match.ball = (8.7, 1.0, 0.11)
+    match.robots = {"nubot1": (8.3, 1.0), "rival1": (8.9, 1.6)}
+    start, drops = match.time, []
+    for i in range(30):  # 7.5 s with the ball jiggling by 0.1 m
+        match.ball = (8.7 + 0.1 * (i % 2), 1.0, 0.11)
+        decision = match.step(0.25)
+        if decision is not None:
+            drops.append((match.time - start, decision))
+    assert len(drops) == 1
+    after, drop = drops[0]
+    assert after == pytest.approx(5.25), "stuck_time 5 s after the first look at the contested ball"
+    assert match.modes() == {"nubot": "DROPBALL", "rival": "DROPBALL"}
+    assert drop.ball == pytest.approx((8.0, 1.0)), "clamped 1 m inside the goal line"
+    assert "stuck" in drop.event
+
+
+def test_ball_near_one_team_only_is_not_stuck(match):
+    match.kickoff_and_play()
+    match.ball = (1.0, 1.0, 0.11)
+    match.robots = {"nubot1": (1.5, 1.0), "nubot2": (0.5, 1.0), "rival1": (4.0, 1.0)}
+    assert match.run(8.0) == []
+    match.robots["rival1"] = (1.0, 1.8)
+    assert match.run(5.0) == [], "stuck_time counts from the first look at the contested ball"
+    assert match.step(0.25).event.startswith("ball stuck")
+
+
+def test_moving_contested_ball_is_not_stuck(match):
+    match.kickoff_and_play()
+    match.robots = {"nubot1": (0.0, 0.0), "rival1": (0.0, 0.0)}
+    for i in range(40):
+        match.ball = (0.2 * i, 0.0, 0.11)
+        match.robots = {"nubot1": (0.2 * i - 0.5, 0.0), "rival1": (0.2 * i + 0.5, 0.0)}
+        assert match.step(0.25) is None
+
+
+def test_set_piece_not_taken_in_time_becomes_a_dropped_ball(match):
+    match.kickoff_and_play()
+    match.ball = (2.0, 6.5, 0.11)
+    match.step(0.25, last_touch="nubot1")  # throw-in for rival
+    match.ball = (2.0, 5.9, 0.11)
+    assert [d.commands[0][1].name for d in match.run(4.0)] == ["STARTROBOT"]
+    assert match.referee.restart_pending
+    assert match.step(0.25, touches=("nubot2",)) is None, "the other team's touch does not take it"
+    assert match.run(11.5) == []
+    late = match.step(0.25)
+    assert match.modes() == {"nubot": "DROPBALL", "rival": "DROPBALL"}
+    assert "rival did not take the throw-in within 12 s" in late.event
+    assert late.ball == pytest.approx((2.0, 5.0))
+
+
+@pytest.mark.parametrize("taken", [{"touches": ("rival3",)}, {"kicks": ("rival3",)}, {"ball": (2.0, 5.2, 0.11)}])
+def test_set_piece_taken_by_the_restart_team_is_play_on(match, taken):
+    match.kickoff_and_play()
+    match.ball = (2.0, 6.5, 0.11)
+    match.step(0.25, last_touch="nubot1")
+    match.ball = (2.0, 5.9, 0.11)
+    match.run(4.0)
+    match.ball = taken.pop("ball", match.ball)
+    assert match.step(0.25, **taken) is None
+    assert not match.referee.restart_pending
+    assert match.run(16.0) == [] and match.game.running
+
+
+def test_game_clock_stops_while_the_teams_set_up(match):
+    match.kickoff_and_play()
+    match.run(2.0)
+    clock = match.game.game_time
+    match.ball = (0.0, -6.5, 0.11)
+    match.step(0.25, last_touch="rival1")
+    match.run(3.75)
+    assert match.game.game_time == pytest.approx(clock + 0.25)
+
+
+def test_end_of_each_half_stops_the_robots_and_the_second_half_starts_with_the_other_kickoff(make_match):
+    match = make_match(half_duration=20.0, half_time_break=5.0)
+    match.kickoff_and_play()  # the clock runs since STARTROBOT at t = 4 s; now t = 4.25 s
+    decisions = match.run(19.5)
+    assert decisions == [] and match.game.running
+    stop = match.step(0.25)
+    assert stop.commands == (("nubot", MatchMode.STOPROBOT), ("rival", MatchMode.STOPROBOT))
+    assert stop.event == "end of the first half (nubot 0, rival 0)"
+    assert match.game.game_time == pytest.approx(20.0)
+    assert match.referee.phase is Phase.HALF_TIME
+    assert match.run(4.75) == [], "half_time_break 5 s"
+    second = match.step(0.25)
+    assert match.game.half == 2 and match.game.game_time == 0.0
+    assert match.modes() == restart_for("rival", "KICKOFF") and second.ball == (0.0, 0.0)
+    match.run(4.0)
+    match.step(0.25, touches=("rival1",))
+    match.ball = (9.3, 0.0, 0.11)
+    match.step(0.25, goals=(GoalSeen(1, "nubot4"),))
+    match.run(4.0)
+    match.step(0.25, touches=("rival2",))
+    decisions = match.run(20.0)
+    assert decisions[-1].event == "end of the match (nubot 1, rival 0)"
+    assert match.referee.phase is Phase.FINISHED
+    match.ball = (0.0, 7.0, 0.11)
+    assert match.run(30.0) == [], "nothing after the match"
+    assert match.game.half == 2
+
+
+def test_unknown_manual_command_is_refused_and_nothing_changes(match):
+    match.kickoff_and_play()
+    before, phase = match.game.state(), match.referee.phase
+    with pytest.raises(NubotCommonError, match="unknown MatchMode 14"):
+        match.referee.manual_command("nubot", "14", match.time)
+    with pytest.raises(NubotCommonError, match="unknown team 'blue'"):
+        match.referee.manual_command("blue", "STOPROBOT", match.time)
+    assert match.game.state() == before and match.referee.phase is phase
+
+
+def test_manual_stop_holds_the_referee_until_a_manual_restart(match):
+    match.kickoff_and_play()
+    text = match.referee.manual_command("rival", "STOPROBOT", match.time)
+    assert text == "by hand: STOPROBOT" and match.game.last_event == text
+    match.ball = (0.0, 7.0, 0.11)
+    assert match.run(20.0) == [], "stopped by hand: no automatic decisions"
+    match.ball = (1.0, 1.0, 0.11)
+    match.referee.manual_command("rival", "OUR_FREEKICK", match.time)
+    assert match.modes() == restart_for("rival", "FREEKICK")
+    assert match.run(3.75) == []
+    assert match.step(0.25).commands[0][1].name == "STARTROBOT"
+    assert match.referee.restart_pending
+    assert "rival did not take the free kick" in match.run(12.0)[-1].event
+
+
+def test_manual_startrobot_during_setup_starts_play_at_once(match):
+    match.step()
+    match.referee.manual_command("nubot", 15, match.time + 1.0)
+    assert match.game.running and match.referee.restart_pending
+    assert match.game.status("nubot").previous.name == "OUR_KICKOFF"
