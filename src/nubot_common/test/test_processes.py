@@ -167,3 +167,20 @@ def test_log_text_after_stop_still_returns_the_log(launched):
     child.process.wait(timeout=5)
     child.stop()
     assert "last words" in child.log_text()
+
+
+def test_stop_lets_group_members_finish_after_the_leader_exits(tmp_path):
+    """Like ``rosbag record``: the wrapper exits on SIGINT, its recorder still has to close the bag."""
+    done = tmp_path / "closed"
+    member = (f"import signal, sys, time\n"
+              f"def close(*_):\n    time.sleep(0.5)\n    open({str(done)!r}, 'w').write('ok')\n    sys.exit(0)\n"
+              f"signal.signal(signal.SIGINT, close)\nprint('ready', flush=True)\n"
+              f"while True:\n    time.sleep(0.05)\n")
+    wrapper = (f"import subprocess, sys\nchild = subprocess.Popen([sys.executable, '-c', {member!r}])\n"
+               f"try:\n    child.wait()\nexcept KeyboardInterrupt:\n    sys.exit(1)\n")
+    child = Launched([sys.executable, "-c", wrapper], dict(os.environ), tmp_path / "log.txt")
+    deadline = time.monotonic() + 10
+    while "ready" not in child.log_text() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    child.stop(timeout=5)
+    assert done.read_text() == "ok", "the member was killed before it finished"

@@ -50,6 +50,8 @@ class Launched:
         return self.log_path.read_text(errors="replace")
 
     def stop(self, timeout: float = 10.0) -> None:
+        """SIGINT to the whole group, wait for all of it (e.g. rosbag's recorder closing its bag), then SIGKILL."""
+        deadline = time.monotonic() + timeout
         if self.alive():
             try:
                 os.killpg(self.process.pid, signal.SIGINT)
@@ -59,11 +61,24 @@ class Launched:
                 self.process.wait(timeout=timeout)
             except ProcessLookupError:
                 pass
+        while time.monotonic() < deadline and self._group_alive():
+            time.sleep(0.05)
         try:
             os.killpg(self.process.pid, signal.SIGKILL)  # stragglers the group left behind
         except ProcessLookupError:
             pass
         self._log.close()
+
+    def _group_alive(self) -> bool:
+        """True while a member of the process group still runs (zombies do not count)."""
+        for stat in Path("/proc").glob("[0-9]*/stat"):
+            try:
+                fields = stat.read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if fields[0] != "Z" and int(fields[2]) == self.process.pid:
+                return True
+        return False
 
 
 class RosMaster:
