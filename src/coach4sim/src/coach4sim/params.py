@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from dataclasses import field as dc_field
 
 from nubot_common.field import FieldGeometry
+from nubot_common.params import require_non_negative, require_positive
 
 _PREFIX = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
@@ -46,18 +47,6 @@ def validate_teams(teams: Sequence[TeamSpec]) -> None:
         raise ValueError(f"the two teams must attack opposite goals, both attack {teams[0].attack:+d}")
 
 
-def _positive(obj: object, *names: str) -> None:
-    for name in names:
-        if not getattr(obj, name) > 0.0:
-            raise ValueError(f"{name} must be positive, got {getattr(obj, name)}")
-
-
-def _non_negative(obj: object, *names: str) -> None:
-    for name in names:
-        if not getattr(obj, name) >= 0.0:
-            raise ValueError(f"{name} must not be negative, got {getattr(obj, name)}")
-
-
 @dataclass(frozen=True)
 class RefereeParams:
     """The numbers of the rules the automatic referee applies (times in sim seconds)."""
@@ -79,9 +68,9 @@ class RefereeParams:
     restart_margin: float = 1.0  # throw-in x and dropped balls stay this far inside the lines [m]
 
     def __post_init__(self) -> None:
-        _positive(self, "ball_radius", "setup_time", "restart_timeout", "in_play_distance", "stuck_time",
+        require_positive(self, "ball_radius", "setup_time", "restart_timeout", "in_play_distance", "stuck_time",
                   "stuck_distance", "stuck_radius", "half_duration")
-        _non_negative(self, "half_time_break", "throw_in_inset", "corner_inset", "goal_kick_distance",
+        require_non_negative(self, "half_time_break", "throw_in_inset", "corner_inset", "goal_kick_distance",
                       "restart_margin")
         if self.halves < 1:
             raise ValueError(f"halves must be at least 1, got {self.halves}")
@@ -110,7 +99,7 @@ class RefereeNodeParams(RefereeParams):
     def __post_init__(self) -> None:
         super().__post_init__()
         validate_teams(self.teams)
-        _positive(self, "republish_period", "state_period")
+        require_positive(self, "republish_period", "state_period")
         if not self.ball_name:
             raise ValueError("ball_name must not be empty")
         if not self.sim_namespace.startswith("/"):

@@ -91,6 +91,20 @@ def from_mapping(cls: type[T], data: Mapping[str, Any] | None, where: str = "") 
         raise NubotCommonError(f"{where or cls.__name__}: {exc}") from exc
 
 
+def require_positive(obj: object, *names: str) -> None:
+    """Raise ValueError naming the first of ``names`` whose value on ``obj`` is not > 0 (for __post_init__)."""
+    for name in names:
+        if not getattr(obj, name) > 0.0:
+            raise ValueError(f"{name} must be positive, got {getattr(obj, name)}")
+
+
+def require_non_negative(obj: object, *names: str) -> None:
+    """Raise ValueError naming the first of ``names`` whose value on ``obj`` is < 0 (for __post_init__)."""
+    for name in names:
+        if not getattr(obj, name) >= 0.0:
+            raise ValueError(f"{name} must not be negative, got {getattr(obj, name)}")
+
+
 def load_yaml(cls: type[T], path: str | Path) -> T:
     """Read a YAML file into the dataclass ``cls``."""
     with open(path, encoding="utf-8") as handle:

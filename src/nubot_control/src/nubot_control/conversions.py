@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import genpy
 
+from nubot_common.conversions import char_value
 from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import MatchMode, parse_match_mode
 from nubot_common.msg import PassCommands, Point2d, StrategyInfo, VelCmd, WorldModelInfo
@@ -22,17 +23,11 @@ def _role(value: int) -> Role:
         return Role.NOROLE
 
 
-def _char(value: int | bytes | str) -> int:
-    if isinstance(value, bytes | str):
-        return ord(value) if value else 0
-    return int(value)
-
-
 def mode_of(msg: WorldModelInfo) -> tuple[MatchMode, MatchMode]:
     """The current and previous game command; an unknown value reads as STOPROBOT (stay safe)."""
     def parse(value: int | bytes | str) -> MatchMode:
         try:
-            return parse_match_mode(_char(value))
+            return parse_match_mode(char_value(value))
         except ValueError:
             return MatchMode.STOPROBOT
     return parse(msg.coachinfo.MatchMode), parse(msg.coachinfo.MatchType)
@@ -54,7 +49,7 @@ def team_state(msg: WorldModelInfo, agent_id: int, time: float, mode_since: floa
         if not info.isvalid or (playing is not None and i != index and i + 1 not in playing):
             continue
         mate = Mate(i + 1, Pose2D(info.pos.x, info.pos.y, info.heading.theta), info.vtrans.x, info.vtrans.y,
-                    _role(_char(info.current_role)), info.role_time, info.isdribble, True)
+                    _role(char_value(info.current_role)), info.role_time, info.isdribble, True)
         if i == index:
             me = mate
         else:

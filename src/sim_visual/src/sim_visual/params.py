@@ -12,20 +12,9 @@ from dataclasses import dataclass
 from dataclasses import field as dc_field
 
 from nubot_common.field import FieldGeometry
+from nubot_common.params import require_non_negative, require_positive
 
 MAX_STEP_SIZE = 0.007  # [s], chapter Table 2
-
-
-def _positive(obj: object, *names: str) -> None:
-    for name in names:
-        if not getattr(obj, name) > 0.0:
-            raise ValueError(f"{name} must be positive, got {getattr(obj, name)}")
-
-
-def _non_negative(obj: object, *names: str) -> None:
-    for name in names:
-        if not getattr(obj, name) >= 0.0:
-            raise ValueError(f"{name} must not be negative, got {getattr(obj, name)}")
 
 
 @dataclass(frozen=True)
@@ -39,8 +28,8 @@ class RobotBody:
     height: float = 0.75  # collision cylinder height [m]
 
     def __post_init__(self) -> None:
-        _positive(self, "mass", "inertia_zz", "radius", "height")
-        _non_negative(self, "friction")
+        require_positive(self, "mass", "inertia_zz", "radius", "height")
+        require_non_negative(self, "friction")
 
 
 @dataclass(frozen=True)
@@ -55,8 +44,8 @@ class BallBody:
     net_restitution: float = 0.3  # share of the ball's motion a goal net keeps per step of contact
 
     def __post_init__(self) -> None:
-        _positive(self, "mass", "radius")
-        _non_negative(self, "rolling_friction", "ground_friction")
+        require_positive(self, "mass", "radius")
+        require_non_negative(self, "rolling_friction", "ground_friction")
         for name in ("restitution", "net_restitution"):
             if not 0.0 <= getattr(self, name) <= 1.0:
                 raise ValueError(f"{name} must lie in [0, 1], got {getattr(self, name)}")
@@ -93,10 +82,10 @@ class PluginParams:
     stuck_time: float = 1.0  # slower than half the command this long means stuck [s]
 
     def __post_init__(self) -> None:
-        _positive(self, "dribble_distance", "hold_distance", "max_linear_speed", "max_angular_speed",
+        require_positive(self, "dribble_distance", "hold_distance", "max_linear_speed", "max_angular_speed",
                   "kick_max_speed", "lob_horizontal_speed", "lob_max_flight_time", "lob_default_distance",
                   "stuck_time")
-        _non_negative(self, "command_timeout", "kick_recapture_delay", "lob_bar_margin")
+        require_non_negative(self, "command_timeout", "kick_recapture_delay", "lob_bar_margin")
         if not 0.0 < self.dribble_angle_deg <= 180.0:
             raise ValueError(f"dribble_angle_deg must lie in (0, 180], got {self.dribble_angle_deg}")
 
@@ -117,7 +106,7 @@ class NoiseParams:
     vision_range: float = 0.0  # objects farther than this are not seen [m]; 0 unlimited
 
     def __post_init__(self) -> None:
-        _non_negative(self, "position_std", "velocity_std", "self_position_std", "heading_std",
+        require_non_negative(self, "position_std", "velocity_std", "self_position_std", "heading_std",
                       "vision_range")
 
 
@@ -171,5 +160,5 @@ class SimNodeParams:
     gui: bool = False  # no viewer exists yet: true only warns and runs headless
 
     def __post_init__(self) -> None:
-        _non_negative(self, "real_time_factor")
-        _positive(self, "model_states_rate", "vision_rate", "clock_rate")
+        require_non_negative(self, "real_time_factor")
+        require_positive(self, "model_states_rate", "vision_rate", "clock_rate")

@@ -13,6 +13,7 @@ import math
 
 import genpy
 
+from nubot_common.conversions import char_value
 from nubot_common.geometry import Pose2D
 from nubot_common.msg import (
     BallInfo,
@@ -55,14 +56,8 @@ def _sec(time: genpy.Time) -> float:
     return time.to_sec()
 
 
-def _char(value: int | bytes | str) -> int:
-    if isinstance(value, bytes | str):
-        return ord(value) if value else 0
-    return int(value)
-
-
 def _role(value: int | bytes | str) -> int:
-    role = _char(value)
+    role = char_value(value)
     return role if 0 <= role <= _CHAR_MAX else NO_ROLE
 
 
@@ -105,9 +100,10 @@ def teammate_views(msg: TeamMessages) -> list[RobotView]:
 
 def coach_inputs(msg: CoachInfo) -> tuple[int, int, CoachExtras]:
     """(MatchMode, MatchType, extras) for ``WorldModel.on_coach``."""
-    extras = CoachExtras(_char(msg.TestMode), (msg.pointA.x, msg.pointA.y), (msg.pointB.x, msg.pointB.y),
-                         int(msg.angleA), int(msg.angleB), _char(msg.idA), _char(msg.idB), _char(msg.kickforce))
-    return _char(msg.MatchMode), _char(msg.MatchType), extras
+    extras = CoachExtras(char_value(msg.TestMode), (msg.pointA.x, msg.pointA.y), (msg.pointB.x, msg.pointB.y),
+                         int(msg.angleA), int(msg.angleB), char_value(msg.idA), char_value(msg.idB),
+                         char_value(msg.kickforce))
+    return char_value(msg.MatchMode), char_value(msg.MatchType), extras
 
 
 def pass_command(msg: PassCommands) -> PassCommand:
