@@ -32,5 +32,7 @@ def test_short_two_vs_two_match_is_recorded_and_reported(tmp_path):
     assert set(report["distance_run_m"]) == {"nubot1", "nubot2", "rival1", "rival2"}
     assert max(report["distance_run_m"].values()) > 5.0, "field players ran"
     assert report["score_agrees"]
+    assert report["kicks"] or sum(report["score"].values()), "the ball was played: kicked or scored"
+    assert report["possession"]["nobody"]["share"] < 0.5, "robots reach the ball"
     for png in ("heatmap.png", "trajectories.png"):
         assert (folder / png).stat().st_size > 10_000

@@ -26,28 +26,33 @@ def _segment_distance(px: float, py: float, ax: float, ay: float, bx: float, by:
     return math.hypot(ax + t * dx - px, ay + t * dy - py), t
 
 
-def sub_target(start: tuple[float, float], goal: tuple[float, float], obstacles: list[tuple[float, float]],
+def sub_target(start: tuple[float, float], goal: tuple[float, float], obstacles: list[tuple[float, ...]],
                clearance: float) -> tuple[float, float]:
-    """The first point to head for on the way from ``start`` to ``goal`` around ``obstacles``."""
+    """The first point to head for on the way from ``start`` to ``goal`` around ``obstacles``.
+
+    An obstacle is (x, y) kept ``clearance`` away, or (x, y, own_clearance).
+    """
     target = goal
     for _ in range(_MAX_DETOURS):
         blocking = None
-        for ox, oy in obstacles:
+        for obstacle in obstacles:
+            ox, oy = obstacle[0], obstacle[1]
+            keep = obstacle[2] if len(obstacle) > 2 else clearance
             if math.hypot(ox - start[0], oy - start[1]) < 1e-6:
                 continue
             distance, t = _segment_distance(ox, oy, start[0], start[1], target[0], target[1])
-            if distance < clearance and 0.0 < t < 1.0:
+            if distance < keep and 0.0 < t < 1.0:
                 along = t * math.hypot(target[0] - start[0], target[1] - start[1])
                 if blocking is None or along < blocking[0]:
-                    blocking = (along, ox, oy)
+                    blocking = (along, ox, oy, keep)
         if blocking is None:
             return target
-        _, ox, oy = blocking
+        _, ox, oy, keep = blocking
         dx, dy = target[0] - start[0], target[1] - start[1]
         norm = math.hypot(dx, dy)
         nx, ny = -dy / norm, dx / norm  # left of the path
         side = 1.0 if (start[0] - ox) * nx + (start[1] - oy) * ny >= 0.0 else -1.0
-        offset = clearance * 1.2
+        offset = keep * 1.2
         target = (ox + side * nx * offset, oy + side * ny * offset)
     return target
 
@@ -64,8 +69,9 @@ class MotionController:
     def reset(self) -> None:
         self.velocity, self.w = (0.0, 0.0), 0.0
 
-    def command(self, me: Pose2D, target: Pose2D, obstacles: list[tuple[float, float]], dt: float,
+    def command(self, me: Pose2D, target: Pose2D, obstacles: list[tuple[float, ...]], dt: float,
                 speed_limit: float | None = None) -> tuple[float, float, float]:
+        """One cycle's body-frame command; an obstacle is (x, y) (a robot) or (x, y, clearance) [m]."""
         p = self.params
         limit = min(p.max_speed, speed_limit or p.max_speed)
         margin = self.field.border - p.robot_radius
@@ -79,10 +85,12 @@ class MotionController:
         dist = math.hypot(dx, dy)
         speed = min(limit, math.sqrt(2.0 * p.max_accel * dist_goal), p.position_gain * dist_goal)
         want = (dx / dist * speed, dy / dist * speed) if dist > 1e-3 else (0.0, 0.0)
-        for ox, oy in near:  # push away from anything already too close
+        for obstacle in near:  # push away from anything already too close
+            ox, oy = obstacle[0], obstacle[1]
+            keep = obstacle[2] if len(obstacle) > 2 else clearance
             gap = math.hypot(me.x - ox, me.y - oy)
-            if 1e-6 < gap < clearance:
-                push = (clearance - gap) * 3.0
+            if 1e-6 < gap < keep:
+                push = (keep - gap) * 3.0
                 want = (want[0] + (me.x - ox) / gap * push, want[1] + (me.y - oy) / gap * push)
         dvx, dvy = want[0] - self.velocity[0], want[1] - self.velocity[1]
         dv = math.hypot(dvx, dvy)

@@ -25,6 +25,7 @@ from nubot_control.team_state import PassPlan, TeamState
 
 _BALL_IN_PLAY_DISTANCE = 0.5  # a restart is over once the ball moved this far [m]
 _PASS_MEMORY = 3.0  # a pass plan is kept this long after the kick [s]
+_BALL_RADIUS = 0.11  # [m], FIFA size 5
 _KICKED_BALL_SPEED = 1.0  # a ball this fast has been kicked [m/s]
 
 
@@ -171,12 +172,13 @@ class Strategy:
                 return bh.mark(state, threat, self.params), roles, (0, 0)
         return bh.support(state, role, self.params), roles, (0, 0)
 
-    def _obstacles(self, state: TeamState, intent: bh.Intent) -> list[tuple[float, float]]:
-        obstacles = state.obstacles()
-        if intent.action == bh.Action.POSITION and state.mode in THEIRS | {MatchMode.DROPBALL}:
-            obstacles.append((state.ball.x, state.ball.y))  # walk around the ball, not through it
+    def _obstacles(self, state: TeamState, intent: bh.Intent) -> list[tuple[float, ...]]:
+        obstacles: list[tuple[float, ...]] = list(state.obstacles())
+        if intent.action == bh.Action.POSITION and state.mode != MatchMode.STARTROBOT:
+            # Walk around the placed ball, never push it; the taker may come to 0.55 m of it.
+            keep = self.params.motion.robot_radius + _BALL_RADIUS + 0.1
+            obstacles.append((state.ball.x, state.ball.y, keep))
         return obstacles
-
 
 
 def _most_dangerous_opponent(state: TeamState) -> tuple[float, float] | None:

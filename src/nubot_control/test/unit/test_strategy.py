@@ -76,3 +76,19 @@ def test_the_midfielder_marks_an_opponent_lurking_in_our_half():
     # Between the lurker and the own goal, 1 m from the lurker.
     assert math.dist(out.target, lurker) == pytest.approx(1.0)
     assert -9.0 < out.target[0] < lurker[0]
+
+
+@pytest.mark.parametrize("mode", [MatchMode.OUR_THROWIN, MatchMode.OPP_THROWIN])
+def test_robots_walking_into_a_set_play_formation_do_not_push_the_ball(make_match, mode):
+    # Everyone starts inside the field of a ball placed on the side line; the taker's spot is beyond it.
+    robots = [("nubot1", -8.4, 0, 0), ("nubot2", 2.0, 5.0, 0), ("nubot3", 2.0, 3.5, 0), ("nubot4", 1.0, 4.5, 0),
+              ("nubot5", 3.0, 4.2, 0)]
+    match = make_match(robots, ball=(0.0, 5.9))
+    match.command("nubot", mode)
+    match.run(6.0)
+    ball = match.sim.world.ball_state()
+    assert math.hypot(ball.x, ball.y - 5.9) < 0.05, "the placed ball stays where the referee put it"
+    if mode == MatchMode.OUR_THROWIN:
+        name = next(n for n, out in match.outputs.items() if out.role == Role.PASSOFPASS)
+        taker = match.sim.world.robot_state(name)
+        assert math.hypot(taker.x - ball.x, taker.y - ball.y) < 0.7, "the taker reached its spot at the ball"
