@@ -184,3 +184,20 @@ def test_stop_lets_group_members_finish_after_the_leader_exits(tmp_path):
         time.sleep(0.05)
     child.stop(timeout=5)
     assert done.read_text() == "ok", "the member was killed before it finished"
+
+
+def test_stop_also_ends_descendants_that_left_the_group(tmp_path):
+    """roslaunch starts each node in a session of its own; those must not outlive the launch."""
+    escapee = ("import os, time\nos.setsid()\nprint('ready', flush=True)\n"
+               "while True:\n    time.sleep(0.05)\n")
+    launcher = (f"import signal, subprocess, sys, time\nsignal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+                f"subprocess.Popen([sys.executable, '-c', {escapee!r}])\nwhile True:\n    time.sleep(0.05)\n")
+    child = Launched([sys.executable, "-c", launcher], dict(os.environ), tmp_path / "log.txt")
+    deadline = time.monotonic() + 10
+    while "ready" not in child.log_text() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    escaped = processes._descendants(child.process.pid)
+    assert escaped, "the launcher has a child"
+    child.stop(timeout=1)
+    time.sleep(0.2)
+    assert not [pid for pid in escaped if processes._running(pid)], "a descendant outlived stop()"

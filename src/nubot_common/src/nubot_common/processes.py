@@ -52,6 +52,8 @@ class Launched:
     def stop(self, timeout: float = 10.0) -> None:
         """SIGINT to the whole group, wait for all of it (e.g. rosbag's recorder closing its bag), then SIGKILL."""
         deadline = time.monotonic() + timeout
+        # roslaunch puts each node in a process group of its own: remember them all before asking to stop.
+        descendants = _descendants(self.process.pid)
         if self.alive():
             try:
                 os.killpg(self.process.pid, signal.SIGINT)
@@ -63,22 +65,56 @@ class Launched:
                 pass
         while time.monotonic() < deadline and self._group_alive():
             time.sleep(0.05)
+        while time.monotonic() < deadline and any(_running(pid) for pid in descendants):
+            time.sleep(0.05)
         try:
             os.killpg(self.process.pid, signal.SIGKILL)  # stragglers the group left behind
         except ProcessLookupError:
             pass
+        for pid in descendants:  # and nodes in groups of their own that outlived their launcher
+            if _running(pid):
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
         self._log.close()
 
     def _group_alive(self) -> bool:
         """True while a member of the process group still runs (zombies do not count)."""
         for stat in Path("/proc").glob("[0-9]*/stat"):
-            try:
-                fields = stat.read_text().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            if fields[0] != "Z" and int(fields[2]) == self.process.pid:
+            fields = _proc_stat(int(stat.parent.name))
+            if fields is not None and fields[0] != "Z" and int(fields[2]) == self.process.pid:
                 return True
         return False
+
+
+def _proc_stat(pid: int) -> list[str] | None:
+    """The fields after the command name in /proc/<pid>/stat (state, ppid, pgrp, ...), or None."""
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return None
+
+
+def _running(pid: int) -> bool:
+    fields = _proc_stat(pid)
+    return fields is not None and fields[0] != "Z"
+
+
+def _descendants(root: int) -> list[int]:
+    """Every live process below ``root`` (children, grandchildren, ...)."""
+    children: dict[int, list[int]] = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            fields = _proc_stat(int(entry.name))
+            if fields is not None:
+                children.setdefault(int(fields[1]), []).append(int(entry.name))
+    found, todo = [], [root]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            found.append(child)
+            todo.append(child)
+    return found
 
 
 class RosMaster:
