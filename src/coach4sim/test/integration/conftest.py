@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from nubot_common.processes import RosMaster  # noqa: F401 - type of the ros_master fixture
+from nubot_common.processes import wait_until
 
 
 class MatchWatcher:
@@ -64,13 +64,7 @@ class MatchWatcher:
 
     @staticmethod
     def wait_for(predicate, timeout: float = 20.0, what: str = "condition"):
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            value = predicate()
-            if value:
-                return value
-            time.sleep(0.02)
-        raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+        return wait_until(predicate, timeout, what, 0.02)
 
     @staticmethod
     def service(name: str, srv_type):

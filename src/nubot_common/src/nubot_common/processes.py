@@ -1,7 +1,8 @@
 """Start and stop ROS processes for tests, benchmarks and the match runner (no rospy here).
 
-Provides: ``free_port``, ``RosMaster`` (a ``roscore`` on a free port, never 11311,
-with the environment that points clients at it) and ``Launched`` (a ``roslaunch`` or
+Provides: ``free_port``, ``wait_until`` (poll a condition on the wall clock), ``RosMaster``
+(a ``roscore`` on a free port, never 11311, with the environment that points clients at
+it) and ``Launched`` (a ``roslaunch`` or
 ``rosrun`` process in its own process group, stopped with everything it started).
 Logs go to ``log_dir`` so that a failing test can show them.
 """
@@ -14,9 +15,11 @@ import socket
 import subprocess
 import time
 import xmlrpc.client
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import IO
+from typing import IO, TypeVar
+
+T = TypeVar("T")
 
 DEFAULT_MASTER_PORT = 11311
 
@@ -86,6 +89,17 @@ class Launched:
             if fields is not None and fields[0] != "Z" and int(fields[2]) == self.process.pid:
                 return True
         return False
+
+
+def wait_until(predicate: Callable[[], T], timeout: float, what: str, poll: float = 0.01) -> T:
+    """Poll ``predicate`` on the wall clock until it returns something truthy; return that, or raise AssertionError."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(poll)
+    raise AssertionError(f"timed out after {timeout} s waiting for {what}")
 
 
 def _proc_stat(pid: int) -> list[str] | None:

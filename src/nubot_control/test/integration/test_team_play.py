@@ -9,6 +9,8 @@ from pathlib import Path
 import pytest
 import yaml
 
+from nubot_common.processes import wait_until
+
 pytestmark = pytest.mark.integration
 
 ROOT = Path(__file__).resolve().parents[4]
@@ -33,12 +35,7 @@ class Watch:
         self.poses = {n: (p.position.x, p.position.y) for n, p in zip(msg.name, msg.pose)}
 
     def wait(self, predicate, timeout, what):
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            if predicate():
-                return
-            time.sleep(0.1)
-        raise AssertionError(f"timed out after {timeout} s waiting for {what}; poses {self.poses}, roles {self.roles}")
+        wait_until(predicate, timeout, f"{what}; poses {self.poses}, roles {self.roles}", poll=0.1)
 
 
 @pytest.fixture(scope="module")

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from nubot_common.geometry import quaternion_to_yaw
-from nubot_common.processes import RosMaster  # noqa: F401 - type of the ros_master fixture
+from nubot_common.processes import RosMaster, wait_until
 
 
 class SimClient:
@@ -65,13 +65,7 @@ class SimClient:
             return self.states[name]
 
     def wait_for(self, predicate, timeout: float = 30.0, what: str = "condition"):
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            value = predicate()
-            if value:
-                return value
-            time.sleep(0.01)
-        raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+        return wait_until(predicate, timeout, what, 0.01)
 
     def wait_sim(self, seconds: float, command=None, rate: float = 33.0) -> None:
         """Let ``seconds`` of sim time pass, publishing ``command`` (Vx, Vy, w) at ``rate`` Hz."""

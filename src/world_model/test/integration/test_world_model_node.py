@@ -7,6 +7,8 @@ import time
 
 import pytest
 
+from nubot_common.processes import wait_until
+
 pytestmark = pytest.mark.integration
 
 ROBOT, TEAM = "nubot1", "nubot"
@@ -55,13 +57,7 @@ class WorldModelWatcher:
             return self.infos[-1][1] if self.infos else None
 
     def wait_for(self, predicate, timeout: float = 20.0, what: str = "condition"):
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            value = predicate()
-            if value:
-                return value
-            time.sleep(0.01)
-        raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+        return wait_until(predicate, timeout, what, 0.01)
 
     def wait_sim(self, seconds: float, every_frame=None, rate: float = 30.0) -> None:
         """Let ``seconds`` of sim time pass, calling ``every_frame(sim_time)`` at ``rate`` Hz."""
