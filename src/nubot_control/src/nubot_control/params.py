@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from dataclasses import field as dc_field
 
 from nubot_common.field import FieldGeometry
+from nubot_common.params import require_non_negative, require_positive
 
 
 @dataclass(frozen=True)
@@ -24,12 +25,9 @@ class MotionParams:
     clearance: float = 0.25  # kept free between two robots' hulls [m]
 
     def __post_init__(self) -> None:
-        for name in ("max_speed", "max_accel", "max_rot_speed", "max_rot_accel", "dribble_speed",
-                     "position_gain", "heading_gain", "robot_radius"):
-            if not getattr(self, name) > 0.0:
-                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
-        if self.clearance < 0.0:
-            raise ValueError(f"clearance must not be negative, got {self.clearance}")
+        require_positive(self, "max_speed", "max_accel", "max_rot_speed", "max_rot_accel", "dribble_speed",
+                     "position_gain", "heading_gain", "robot_radius")
+        require_non_negative(self, "clearance")
 
 
 @dataclass(frozen=True)
@@ -61,5 +59,4 @@ class ControlParams:
     rate: float = 33.0  # control cycles per second [Hz] (chapter 4.4)
 
     def __post_init__(self) -> None:
-        if not self.rate > 0.0:
-            raise ValueError(f"rate must be positive, got {self.rate}")
+        require_positive(self, "rate")

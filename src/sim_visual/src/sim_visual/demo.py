@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from enum import Enum
 
 from nubot_common.geometry import Pose2D, rotate, wrap_angle
+from nubot_common.params import require_positive
 
 
 class DemoState(Enum):
@@ -46,9 +47,7 @@ class DemoParams:
     def __post_init__(self) -> None:
         if self.shot not in ("lob", "ground"):
             raise ValueError(f"shot must be 'lob' or 'ground', got {self.shot!r}")
-        for name in ("max_speed", "max_accel", "max_rot_speed_deg", "max_rot_accel_deg", "dribble_speed"):
-            if getattr(self, name) <= 0.0:
-                raise ValueError(f"{name} must be positive")
+        require_positive(self, "max_speed", "max_accel", "max_rot_speed_deg", "max_rot_accel_deg", "dribble_speed")
 
 
 @dataclass(frozen=True)

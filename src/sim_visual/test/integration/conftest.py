@@ -90,7 +90,7 @@ class SimClient:
         rospy.wait_for_service(name, timeout=20.0)
         return rospy.ServiceProxy(name, srv_type)
 
-    def set_model(self, name: str, x: float, y: float, yaw: float = 0.0, z: float = 0.0) -> None:
+    def set_model(self, name: str, x: float, y: float, *, z: float = 0.0, yaw: float = 0.0) -> None:
         from nubot_common.msg import ModelState
         from nubot_common.srv import SetModelState
 
