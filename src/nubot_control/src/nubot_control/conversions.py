@@ -94,6 +94,7 @@ def strategy_msg(out: ControlOutput, agent_id: int, time: float, role_time: floa
     msg.is_dribble = holding
     msg.is_kickoff = kickoff
     msg.role_time = role_time
+    msg.target = Point2d(*out.target)
     if out.pass_plan is not None:
         p = out.pass_plan
         msg.pass_cmd = PassCommands(p.passer, p.catcher, Point2d(0.0, 0.0), Point2d(p.catch_x, p.catch_y),

@@ -22,10 +22,12 @@ class Watch:
     def __init__(self):
         import rospy
 
-        from nubot_common.msg import ModelStates, StrategyInfo
+        from nubot_common.msg import ModelStates, StrategyInfo, WorldModelInfo
 
-        self.poses, self.roles = {}, {}
-        self.subs = [rospy.Subscriber("/sim_visual/model_states", ModelStates, self._states, queue_size=1)]
+        self.poses, self.roles, self.mates = {}, {}, []
+        self.subs = [rospy.Subscriber("/sim_visual/model_states", ModelStates, self._states, queue_size=1),
+                     rospy.Subscriber("/nubot1/worldmodel/worldmodelinfo", WorldModelInfo,
+                                      lambda m: setattr(self, "mates", list(m.robotinfo)), queue_size=1)]
         for name in ("nubot2", "nubot3"):
             self.subs.append(rospy.Subscriber(f"/{name}/nubotcontrol/strategy", StrategyInfo,
                                               lambda m, n=name: self.roles.__setitem__(n, (time.monotonic(), m.role)),
@@ -92,6 +94,11 @@ def test_our_kickoff_by_rostopic_pub_gives_the_kickoff_formation(match):
                              for k in (1, 2, 3))
             return ours_home and taker and theirs_out
         watch.wait(formed, 30, "the kickoff formation")
+
+        def targets_reached():  # RobotInfo.target, as the goalie's world model shows its teammates
+            targets = {f"nubot{r.AgentID}": (r.target.x, r.target.y) for r in watch.mates if r.isvalid}
+            return len(targets) == 3 and all(math.dist(watch.poses[n], t) < 0.6 for n, t in targets.items())
+        watch.wait(targets_reached, 10, f"RobotInfo.target at each robot's formation spot; mates {watch.mates}")
     finally:
         stop(*pubs)
 

@@ -115,7 +115,7 @@ def strategy_report(msg: StrategyInfo) -> StrategyReport:
     return StrategyReport(
         _sec(msg.header.stamp), int(msg.AgentID), _role(msg.role), msg.role_time,
         (msg.targetNum1, msg.targetNum2, msg.targetNum3, msg.targetNum4), msg.staticpassNum, msg.staticcatchNum,
-        bool(msg.is_dribble), pass_command(msg.pass_cmd))
+        bool(msg.is_dribble), pass_command(msg.pass_cmd), (msg.target.x, msg.target.y))
 
 
 # --- core -> messages --------------------------------------------------------------------

@@ -110,6 +110,7 @@ class StrategyReport:
     static_catch: int = 0
     is_dribble: bool = False
     pass_cmd: PassCommand | None = None
+    target: tuple[float, float] = (0.0, 0.0)  # where the robot is heading, team frame [m]
 
 
 @dataclass(frozen=True)

@@ -142,7 +142,7 @@ class WorldModel:
         s = self._strategy
         if s is not None:
             report = replace(report, role=s.role, role_time=s.role_time, target_nums=s.target_nums,
-                             static_pass=s.static_pass, static_catch=s.static_catch)
+                             static_pass=s.static_pass, static_catch=s.static_catch, target=s.target)
         return report
 
     def _robot(self, t: float, agent_id: int) -> Teammate:

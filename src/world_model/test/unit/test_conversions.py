@@ -135,12 +135,14 @@ def test_team_message_round_trips_into_the_teammate_view(make_model, see, mate_v
 
 
 def test_strategy_info_becomes_a_strategy_report():
-    msg = StrategyInfo(AgentID=2, targetNum1=2, role=9, role_time=3.0, staticpassNum=4, staticcatchNum=2)
+    msg = StrategyInfo(AgentID=2, targetNum1=2, role=9, role_time=3.0, staticpassNum=4, staticcatchNum=2,
+                       target=Point2d(3.5, -1.0))
     msg.header.stamp = genpy.Time.from_sec(5.0)
     msg.pass_cmd.pass_id, msg.pass_cmd.catch_id, msg.pass_cmd.is_valid = 4, 2, True
     report = conv.strategy_report(_round_trip(msg))
     assert (report.stamp, report.agent_id, report.role, report.role_time) == (5.0, 2, 9, pytest.approx(3.0))
     assert (report.static_pass, report.static_catch, report.target_nums) == (4, 2, (2, 0, 0, 0))
+    assert report.target == pytest.approx((3.5, -1.0))
     assert report.pass_cmd.is_valid and (report.pass_cmd.pass_id, report.pass_cmd.catch_id) == (4, 2)
     msg.role = 300
     assert conv.strategy_report(msg).role == 8, "not a char: NOROLE"

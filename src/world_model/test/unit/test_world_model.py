@@ -109,7 +109,7 @@ def test_own_robot_is_invalid_when_its_vision_is_stale_or_it_says_so(make_model,
 def test_own_view_carries_role_fields_fresh_ball_with_fitted_velocity_and_obstacles(make_model, see):
     model = make_model(agent_id=3)
     model.on_strategy(9.0, StrategyReport(9.0, 3, role=1, role_time=4.5, target_nums=(3, 2, 1, 4),
-                                          static_pass=3, static_catch=2))
+                                          static_pass=3, static_catch=2, target=(-2.5, 1.5)))
     for k in range(5):
         see(model, 10.0 + k / 30.0, pose=(1.0, 1.0, 0.0), ball=(2.0 + 0.1 * k, 1.0), obstacles=((4.0, 0.0),))
     now = 10.0 + 4 / 30.0
@@ -117,6 +117,7 @@ def test_own_view_carries_role_fields_fresh_ball_with_fitted_velocity_and_obstac
     assert view.robot.agent_id == 3 and view.robot.valid
     assert (view.robot.role, view.robot.role_time, view.robot.target_nums) == (1, 4.5, (3, 2, 1, 4))
     assert (view.robot.static_pass, view.robot.static_catch) == (3, 2)
+    assert view.robot.target == (-2.5, 1.5), "RobotInfo.target comes from the robot's own strategy"
     assert view.ball.velocity_known and (view.ball.vx, view.ball.vy) == pytest.approx((3.0, 0.0), abs=1e-6)
     assert view.obstacles == ((4.0, 0.0),)
     assert model.snapshot(now).me.role == 1
