@@ -14,7 +14,7 @@ content of ``nubot_common/GameState``). Invalid input raises ``CoachError`` (a
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from coach4sim import CoachError
 from coach4sim.params import TeamSpec, validate_teams
@@ -149,6 +149,11 @@ class GameController:
         if scorer is not None:
             self.status(scorer).score += 1
         return scorer
+
+    def switch_ends(self) -> None:
+        """Every team attacks the other goal from now on."""
+        for status in self.teams:
+            status.spec = replace(status.spec, attack=-status.spec.attack)
 
     def start_half(self, half: int) -> None:
         """Begin half number ``half`` (1, 2, ...) with the game clock at zero."""

@@ -62,6 +62,7 @@ class RefereeParams:
     half_duration: float = 300.0  # game clock of one half (runs only while the ball is in play) [s]
     halves: int = 2
     half_time_break: float = 10.0  # STOPROBOT at the end of a half, the next half's kickoff this much later [s]
+    switch_ends: bool = True  # the teams change ends at half time
     throw_in_inset: float = 0.1  # throw-in ball centre this far inside the side line [m]
     corner_inset: float = 0.25  # corner-kick ball centre this far inside both lines [m]
     goal_kick_distance: float = 1.0  # goal-kick ball this far in front of the goal-area corner [m]

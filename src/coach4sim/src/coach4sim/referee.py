@@ -15,8 +15,9 @@ the team that did not touch it last; over a goal line outside the goal -> goal k
 (attacker touched last) or corner kick (defender touched last); no known last toucher
 -> dropped ball; a contested ball that does not move -> dropped ball; a restart not
 taken in time -> dropped ball; the end of a half -> STOPROBOT, then the next half's
-kickoff for the other team after a break. Each restart is the set-piece command with
-the ball placed, then STARTROBOT after ``setup_time``. Teams do not change ends.
+kickoff for the other team after a break, the teams having changed ends at the end of
+the half (``switch_ends``: the decision asks the simulator to turn the field round). Each
+restart is the set-piece command with the ball placed, then STARTROBOT after ``setup_time``.
 """
 
 from __future__ import annotations
@@ -57,6 +58,7 @@ class RefereeDecision:
     commands: tuple[tuple[str, MatchMode], ...]  # (team, command in that team's view), every team
     ball: tuple[float, float] | None  # place the ball here, at rest (world frame [m]); None leaves it
     event: str  # the decision in words
+    switch_ends: bool = False  # the teams have changed ends: every robot now attacks the other goal
 
 
 class Phase(Enum):
@@ -80,7 +82,6 @@ class AutomaticReferee:
     def __init__(self, params: RefereeParams, game: GameController):
         self.params, self.game = params, game
         self.phase = Phase.WAITING
-        self.first_kickoff_side = game.teams[0].spec.attack
         self._start_at = 0.0  # SETUP: STARTROBOT at this sim time [s]
         self._resume_at = 0.0  # HALF_TIME: next half's kickoff at this sim time [s]
         self._restart_side: int | None = None  # the side attacked by the team taking the restart
@@ -88,6 +89,7 @@ class AutomaticReferee:
         self._pending = False  # PLAY: the restart has not been taken yet
         self._deadline = 0.0  # ... and must be by this sim time [s]
         self._ball_ref: tuple[float, float] | None = None  # where the ball was when play resumed
+        self._spot: tuple[float, float] | None = None  # SETUP: where the ball was placed for the restart
         self._stuck_since: tuple[float, float, float] | None = None  # (x, y, t) of a contested, still ball
         self._between_halves = True  # before the match or in a half-time break (also when stopped there)
         self._last_ball: tuple[float, float] | None = None  # where the ball was at the latest update
@@ -205,14 +207,15 @@ class AutomaticReferee:
     def _start_half(self, half: int, now: float) -> RefereeDecision:
         self.game.start_half(half)
         self._between_halves = False
-        side = self.first_kickoff_side if half % 2 else -self.first_kickoff_side
+        first = self.game.teams[0].spec.attack  # the first team kicks off the odd halves, wherever it plays
+        side = first if half % 2 else -first
         return self._restart(now, side, MatchMode.OUR_KICKOFF, (0.0, 0.0), f"the {half_name(half)} begins: ")
 
     def _restart(self, now: float, side: int, mode: MatchMode, spot: tuple[float, float],
                  reason: str) -> RefereeDecision:
         """Give the set piece ``mode`` to the team attacking ``side`` and place the ball at ``spot``."""
         self.game.award(side, mode)
-        self._enter_setup(now, side, _restart_name(mode))
+        self._enter_setup(now, side, _restart_name(mode), spot)
         team = self.game.team_attacking(side) or "the absent opponents"
         return self._decide((spot[0], spot[1]), f"{reason}{_restart_name(mode)} for {team}")
 
@@ -221,41 +224,57 @@ class AutomaticReferee:
         spot = (min(max(at[0], -(f.half_length - m)), f.half_length - m),
                 min(max(at[1], -(f.half_width - m)), f.half_width - m))
         self.game.send_all(MatchMode.DROPBALL)
-        self._enter_setup(now, None, "dropped ball")
+        self._enter_setup(now, None, "dropped ball", spot)
         return self._decide(spot, f"{reason}dropped ball")
 
-    def _enter_setup(self, now: float, side: int | None, name: str) -> None:
+    def _enter_setup(self, now: float, side: int | None, name: str,
+                     spot: tuple[float, float] | None = None) -> None:
         self.phase = Phase.SETUP
         self._start_at = now + self.params.setup_time
         self._restart_side, self._restart_name = side, name
         self._pending = False
         self._ball_ref = self._stuck_since = None
+        self._spot = spot
 
     def _start_play(self, now: float) -> RefereeDecision:
+        """STARTROBOT; a ball pushed off its spot during the setup goes back there first."""
         self.game.send_all(MatchMode.STARTROBOT)
         self.phase = Phase.PLAY
         self._pending = self._restart_side is not None
         self._deadline = now + self.params.restart_timeout
         self._ball_ref, self._stuck_since = self._last_ball, None
-        return self._decide(None, f"STARTROBOT: play on after the {self._restart_name}")
+        spot, self._spot = self._spot, None
+        text = f"STARTROBOT: play on after the {self._restart_name}"
+        if spot is not None and self._last_ball is not None and \
+                math.dist(spot, self._last_ball) > self.params.in_play_distance / 2.0:
+            x, y = self._last_ball
+            self._ball_ref = spot
+            return self._decide(spot, f"{text} (the ball, moved to ({x:+.2f}, {y:+.2f}) during the setup, "
+                                      "goes back to its spot)")
+        return self._decide(None, text)
 
     def _end_half(self, now: float, goal_text: str) -> RefereeDecision:
         self.game.send_all(MatchMode.STOPROBOT)
         prefix = f"{goal_text}; " if goal_text else ""
+        switch = False
         if self.game.half < self.params.halves:
             self.phase = Phase.HALF_TIME
             self._between_halves = True
             self._resume_at = now + self.params.half_time_break
             text = f"{prefix}end of the {half_name(self.game.half)} ({self.game.score_text()})"
+            if self.params.switch_ends:
+                self.game.switch_ends()
+                switch = True
+                text += "; the teams change ends"
         else:
             self.phase = Phase.FINISHED
             text = f"{prefix}end of the match ({self.game.score_text()})"
-        return self._decide(None, text)
+        return self._decide(None, text, switch)
 
-    def _decide(self, ball: tuple[float, float] | None, event: str) -> RefereeDecision:
+    def _decide(self, ball: tuple[float, float] | None, event: str, switch_ends: bool = False) -> RefereeDecision:
         self.game.last_event = event
         commands = tuple((t.spec.prefix, t.mode) for t in self.game.teams)
-        return RefereeDecision(commands, ball, event)
+        return RefereeDecision(commands, ball, event, switch_ends)
 
     # --- manual commands -------------------------------------------------------------------------
     def manual_command(self, team: str, mode: MatchMode | int | str, now: float) -> str:
@@ -278,6 +297,7 @@ class AutomaticReferee:
         if parsed == MatchMode.STARTROBOT:
             if self.phase is not Phase.SETUP:
                 self._restart_side, self._restart_name = None, "command by hand"
+            self._spot = None  # by hand, the ball stays where it is
             self._start_play(now)
             self.game.last_event = text
         elif parsed.is_set_play:

@@ -95,10 +95,9 @@ def make_watcher():
     return MatchWatcher
 
 
-@pytest.fixture(scope="module")
-def match_world(ros_master):
-    """nubot1 at (-2, 0) and rival1 at (4, -3) in the simulator, and the automatic referee; yields
-    (watcher, sim process, referee process)."""
+def launch_match_world(ros_master, *referee_args: str):
+    """nubot1 at (-2, 0) and rival1 at (4, -3) in the simulator, and the automatic referee launched with
+    ``referee_args``; returns (watcher, sim process, referee process) once the first kickoff is given."""
     from geometry_msgs.msg import Pose
 
     from nubot_common.srv import SpawnModel
@@ -112,20 +111,35 @@ def match_world(ros_master):
         pose.position.x, pose.position.y = 4.0, -3.0
         pose.orientation.z, pose.orientation.w = 1.0, 0.0  # facing -x
         assert watcher.service("/sim_visual/spawn_model", SpawnModel)("rival1", pose, -1).success
-        referee = ros_master.launch("coach4sim_referee", ["roslaunch", "coach4sim", "referee.launch"])
+        referee = ros_master.launch("coach4sim_referee", ["roslaunch", "coach4sim", "referee.launch", *referee_args])
         watcher.wait_for(lambda: watcher.game is not None and watcher.game.half == 1, timeout=30,
                          what="the referee's first kickoff")
         watcher.wait_for(lambda: watcher.mode("nubot") is not None and watcher.mode("rival") is not None,
                          timeout=10, what="CoachInfo for both teams")
     except AssertionError:
         logs = "\n".join(p.log_text()[-3000:] for p in (sim, referee) if p is not None)
-        watcher.close()
-        for process in (referee, sim):
-            if process is not None:
-                process.stop()
+        stop_match_world(watcher, sim, referee)
         raise AssertionError(f"the match world did not start:\n{logs}") from None
-    yield watcher, sim, referee
+    return watcher, sim, referee
+
+
+def stop_match_world(watcher, sim, referee) -> None:
     watcher.close()
-    referee.stop()
-    sim.stop()
+    for process in (referee, sim):
+        if process is not None:
+            process.stop()
     time.sleep(0.5)  # let the master forget the stopped nodes before another module launches its own
+
+
+@pytest.fixture(scope="module")
+def match_world(ros_master):
+    """The match world with the referee's default rules; yields (watcher, sim process, referee process)."""
+    world = launch_match_world(ros_master)
+    yield world
+    stop_match_world(*world)
+
+
+@pytest.fixture(scope="module")
+def world_launcher():
+    """(launch_match_world, stop_match_world), for modules that need the referee with other rules."""
+    return launch_match_world, stop_match_world

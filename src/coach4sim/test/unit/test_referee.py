@@ -26,6 +26,26 @@ def test_the_match_starts_with_a_kickoff_for_the_first_team_and_startrobot_after
     assert match.game.status("nubot").previous.name == "OUR_KICKOFF"
 
 
+def test_a_ball_pushed_off_its_spot_during_the_setup_goes_back_at_startrobot(match):
+    match.step()
+    match.run(2.0)
+    match.ball = (1.2, -0.4, 0.11)  # a robot walked into it
+    match.run(1.75)
+    start = match.step(0.25)
+    assert start.commands[0][1] is MatchMode.STARTROBOT
+    assert start.ball == (0.0, 0.0) and "goes back to its spot" in start.event
+    match.ball = (0.0, 0.0, 0.11)
+    match.run(2.0)
+    assert match.referee.restart_pending, "the replaced ball has not been played yet"
+
+
+def test_a_ball_still_on_its_spot_is_left_alone_at_startrobot(match):
+    match.step()
+    match.ball = (0.1, 0.05, 0.11)
+    match.run(3.75)
+    assert match.step(0.25).ball is None
+
+
 @pytest.mark.parametrize(("ball", "toucher", "team", "spot"), [
     ((3.0, 6.2), "nubot1", "rival", (3.0, 5.9)),  # over y = +6, nubot touched last
     ((3.0, 6.2), "rival4", "nubot", (3.0, 5.9)),
@@ -176,32 +196,52 @@ def test_game_clock_stops_while_the_teams_set_up(match):
     assert match.game.game_time == pytest.approx(clock + 0.25)
 
 
-def test_end_of_each_half_stops_the_robots_and_the_second_half_starts_with_the_other_kickoff(make_match):
-    match = make_match(half_duration=20.0, half_time_break=5.0)
+@pytest.mark.parametrize("switch", [True, False])
+def test_end_of_each_half_stops_the_robots_and_the_second_half_starts_with_the_other_kickoff(make_match, switch):
+    match = make_match(half_duration=20.0, half_time_break=5.0, switch_ends=switch)
     match.kickoff_and_play()  # the clock runs since STARTROBOT at t = 4 s; now t = 4.25 s
     decisions = match.run(19.5)
     assert decisions == [] and match.game.running
     stop = match.step(0.25)
     assert stop.commands == (("nubot", MatchMode.STOPROBOT), ("rival", MatchMode.STOPROBOT))
-    assert stop.event == "end of the first half (nubot 0, rival 0)"
+    change = "; the teams change ends" if switch else ""
+    assert stop.event == f"end of the first half (nubot 0, rival 0){change}"
+    assert stop.switch_ends is switch, "the node turns the simulated field round on this"
+    assert match.game.state().attack == ((-1, 1) if switch else (1, -1))
     assert match.game.game_time == pytest.approx(20.0)
     assert match.referee.phase is Phase.HALF_TIME
     assert match.run(4.75) == [], "half_time_break 5 s"
     second = match.step(0.25)
     assert match.game.half == 2 and match.game.game_time == 0.0
     assert match.modes() == restart_for("rival", "KICKOFF") and second.ball == (0.0, 0.0)
+    assert not second.switch_ends
     match.run(4.0)
     match.step(0.25, touches=("rival1",))
     match.ball = (9.3, 0.0, 0.11)
-    match.step(0.25, goals=(GoalSeen(1, "nubot4"),))
+    match.step(0.25, goals=(GoalSeen(1, "nubot4"),))  # the goal at +x: rival's target after the change
     match.run(4.0)
-    match.step(0.25, touches=("rival2",))
+    match.step(0.25, touches=("nubot2" if switch else "rival2",))  # the conceding team takes the kickoff
     decisions = match.run(20.0)
-    assert decisions[-1].event == "end of the match (nubot 1, rival 0)"
+    score = "nubot 0, rival 1" if switch else "nubot 1, rival 0"
+    assert decisions[-1].event == f"end of the match ({score})" and not decisions[-1].switch_ends
     assert match.referee.phase is Phase.FINISHED
     match.ball = (0.0, 7.0, 0.11)
     assert match.run(30.0) == [], "nothing after the match"
     assert match.game.half == 2
+
+
+def test_after_the_change_of_ends_goal_line_restarts_follow_the_new_sides(make_match):
+    match = make_match(half_duration=5.0, half_time_break=1.0)
+    match.kickoff_and_play()
+    match.run(5.0)
+    assert match.game.half == 1 and match.referee.phase is Phase.HALF_TIME
+    match.run(1.0)
+    match.run(4.25)  # the second half's kickoff and STARTROBOT
+    match.step(0.25, touches=("rival1",))
+    match.ball = (9.3, 3.0, 0.11)  # over the +x goal line; nubot now defends +x
+    decision = match.step(0.25, last_touch="rival3")
+    assert match.modes() == restart_for("nubot", "GOALKICK"), decision.event
+    assert decision.ball == pytest.approx((7.25, 1.75))
 
 
 def test_unknown_manual_command_is_refused_and_nothing_changes(match):

@@ -3,7 +3,7 @@
 Requires: ``SimConfig``. Provides: ``Simulator`` with the robot interface of the
 chapter (``command_velocity``, ``ball_handle``, ``shoot``), Gazebo-like world
 services (``model_states``, ``set_model_state``, ``reset``, ``spawn_robot``,
-``delete_robot``), ``observe`` (noisy omni-vision frame of one robot) and ``step``
+``delete_robot``), ``switch_ends`` (half time), ``observe`` (noisy omni-vision frame of one robot) and ``step``
 which returns the events of that step (goals, kicks, captures). All randomness
 comes from one ``numpy.random.Generator`` seeded by ``SimConfig.seed``.
 """
@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from nubot_common.geometry import Pose2D, rotate
+from nubot_common.geometry import Pose2D, rotate, wrap_angle
 from sim_visual import SimVisualError
 from sim_visual.params import NoiseParams, PluginParams, RobotSpawn, SimConfig
 from sim_visual.rules import (
@@ -161,6 +161,24 @@ class Simulator:
             self.plugins[name] = RobotPlugin(s, plugin.agent_id)
         self._place_ball_start()
         self.last_touch = self._reported_touch = ""
+        self._goal_latched = False
+
+    def switch_ends(self) -> None:
+        """Half time: every robot attacks the other goal and is turned half round the centre spot, at rest.
+
+        Each robot keeps its pose in its team frame, so its own software sees no jump; the ball is
+        mirrored too and stops; start poses (``reset``) follow the new ends.
+        """
+        self._release()
+        for name, plugin in self.plugins.items():
+            s = self.world.robot_state(name)
+            self.world.set_robot_state(name, RobotState(-s.x, -s.y, wrap_angle(s.theta + math.pi), 0.0, 0.0, 0.0))
+            start = plugin.spawn
+            spawn = replace(start, x=-start.x, y=-start.y, theta=wrap_angle(start.theta + math.pi),
+                            attack=-start.attack)
+            self.plugins[name] = RobotPlugin(spawn, plugin.agent_id, dribble_enabled=plugin.dribble_enabled)
+        b = self.world.ball_state()
+        self.world.set_ball_state(BallState(-b.x, -b.y, max(b.z, self.config.ball.radius), 0.0, 0.0, 0.0))
         self._goal_latched = False
 
     def model_states(self) -> list[tuple[str, RobotState | BallState]]:

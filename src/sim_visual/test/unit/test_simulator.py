@@ -253,3 +253,22 @@ def test_touches_are_reported_when_the_toucher_changes(make_sim, run):
     sim.shoot("nubot1", 4, -1)
     events = [e for e in run(sim, 2.0) if isinstance(e, BallTouched)]
     assert [e.robot for e in events] == ["rival1"], "the pass hits rival1; nubot1's own kick is no new touch"
+
+
+def test_switching_ends_keeps_every_robot_where_it_was_in_its_own_team_frame(make_sim, run):
+    sim = make_sim(robots=(("nubot1", -3.0, 1.0, 0.2, 1), ("rival1", 4.0, -2.0, 2.5, -1)), ball=(1.0, 2.0))
+    before = {name: sim.observe(name) for name in ("nubot1", "rival1")}
+    sim.switch_ends()
+    world = sim.world.robot_state("nubot1")
+    assert (world.x, world.y, world.theta) == pytest.approx((3.0, -1.0, 0.2 - math.pi)), "turned round the centre"
+    assert [sim.plugins[n].spawn.attack for n in ("nubot1", "rival1")] == [-1, 1]
+    ball = sim.world.ball_state()
+    assert (ball.x, ball.y, ball.vx, ball.vy) == pytest.approx((-1.0, -2.0, 0.0, 0.0))
+    for name, old in before.items():
+        new = sim.observe(name)
+        assert (new.robot.x, new.robot.y) == pytest.approx((old.robot.x, old.robot.y), abs=0.15)
+        assert math.cos(new.robot.theta - old.robot.theta) > 0.99
+        assert (new.ball.x, new.ball.y) == pytest.approx((old.ball.x, old.ball.y), abs=0.3), "the ball too"
+    sim.reset()
+    start = sim.world.robot_state("rival1")
+    assert (start.x, start.y) == pytest.approx((-4.0, 2.0)), "reset uses the start poses of the new ends"
