@@ -2,6 +2,7 @@
 SHELL := /bin/bash
 ROS := source devel/setup.bash &&
 HALF_SECONDS ?= 90
+TRACKER ?= mpc
 DEMO_SECONDS ?= 60
 
 .PHONY: setup match demo test unit integration bench lint clean
@@ -10,7 +11,7 @@ setup:
 	@bash scripts/setup.sh
 
 match: setup
-	@$(ROS) python scripts/run_match.py --half-seconds $(HALF_SECONDS)
+	@$(ROS) python scripts/run_match.py --half-seconds $(HALF_SECONDS) --tracker $(TRACKER)
 
 demo: setup
 	@$(ROS) python scripts/run_demo.py --sim-seconds $(DEMO_SECONDS)
@@ -26,6 +27,7 @@ integration: setup
 
 bench: setup
 	@$(ROS) python scripts/bench_sim.py --out bench/results
+	@$(ROS) python scripts/bench_tracking.py --out bench/results
 	@$(ROS) python scripts/bench_match.py --out bench/results
 
 lint: setup

@@ -5,8 +5,8 @@ referee states, coach commands; times in sim seconds, positions in the world fra
 a ``FieldSize`` [m] and the attacked side per team to use when no referee state was
 recorded. ``match_report.py`` builds these records from a match bag.
 Provides: ``analyse`` -> ``MatchSummary`` (score, goals, possession, passes, shots,
-referee events, distance run per robot; ``to_json()``) and the Agg plots
-``plot_ball_heatmap`` and ``plot_trajectories``.
+referee events, distance run per robot, robot-robot collisions, time to reach a free ball;
+``to_json()``) and the Agg plots ``plot_ball_heatmap`` and ``plot_trajectories``.
 
 Definitions (``DEFINITIONS`` repeats them in report.json):
 
@@ -29,7 +29,20 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
   when the recording ends first. Every outcome but completed is a failed pass;
 - distance run: per robot, the sum of planar displacements between consecutive samples,
   leaving out steps longer than ``teleport_step`` (1 m: the referee or a reset moved it);
-- referee events: the changes of ``GameState.last_event`` (empty texts left out), with times.
+- referee events: the changes of ``GameState.last_event`` (empty texts left out), with times;
+- positions compared between models: each robot's track interpolated (``np.interp``) onto one
+  time grid, leaving out the times its track does not cover (before its first or after its last
+  sample); robots are cylinders of radius ``hull_radius`` (0.26 m);
+- collision: the onset, at a sample during running time, of contact of two robots: centres closer
+  than 2 ``hull_radius`` + ``contact_tolerance`` (0.03 m). The pair counts again only after its
+  centres were farther apart than 2 ``hull_radius`` + ``separation_margin`` (0.10 m); contact keeps
+  its state through stoppages, so a contact begun outside running time never counts. Grid: the
+  union of the robots' sample times. Counted per team pairing and per minute of running time;
+- time to reach the ball: a free-ball episode starts at the first sample during running time at
+  which no robot centre is within ``free_distance`` (1 m) of the ball and ends at the next sample
+  at which one is within ``reach_distance`` (0.45 m); its duration is credited to the team of the
+  nearest robot then. Episodes cut by the end of their running interval (a stoppage, the end of
+  the recording) are dropped. Grid: the ball's sample times.
 """
 
 from __future__ import annotations
@@ -64,6 +77,18 @@ DEFINITIONS = {
                     "steps longer than teleport_step_m left out (teleports by the referee or a reset)",
     "referee_events": "changes of GameState.last_event (empty texts left out) with their sim times",
     "time": "sim time [s]: header stamps; model states at the latest /clock before them",
+    "robot_positions": "robot tracks interpolated onto one time grid, left out where a track does not cover the "
+                       "time (before its first or after its last sample); robots are cylinders of hull_radius_m",
+    "collisions": "onsets, at samples during running time, of two robots' centres closer than contact_distance_m "
+                  "(2 hull_radius_m + a 0.03 m tolerance); a pair counts again only after its centres were "
+                  "farther apart than separation_distance_m (2 hull_radius_m + 0.10 m); a contact begun outside "
+                  "running time is not counted; grid: the union of the robots' sample times; per_minute of running "
+                  "time",
+    "ball_reach": "a free-ball episode starts at the first sample during running time with no robot centre within "
+                  "free_distance_m of the ball and ends at the next sample with one within reach_distance_m; its "
+                  "duration is the time to reach the ball, credited to the team of the nearest robot then; episodes "
+                  "cut by the end of their running interval (stoppage, end of recording) are dropped; grid: the "
+                  "ball's sample times",
 }
 
 _ROBOT_NAME = re.compile(r"^(?P<team>[A-Za-z_]+?)(?P<number>\d+)$")
@@ -189,6 +214,33 @@ class CreditedGoal:
     game_time: float | None  # game clock [s] when known
 
 
+@dataclass(frozen=True)
+class Collision:
+    t: float  # [s] onset of the contact
+    robots: tuple[str, str]  # sorted names
+
+    @property
+    def same_team(self) -> bool:
+        return team_of(self.robots[0]) == team_of(self.robots[1])
+
+
+@dataclass(frozen=True)
+class BallReach:
+    """A free-ball episode that a robot ended by reaching the ball."""
+
+    t_free: float  # [s] first sample with the ball free
+    t_reached: float  # [s]
+    robot: str  # the robot nearest the ball at t_reached
+
+    @property
+    def seconds(self) -> float:
+        return self.t_reached - self.t_free
+
+    @property
+    def team(self) -> str:
+        return team_of(self.robot)
+
+
 @dataclass
 class MatchSummary:
     """The statistics of one match; times in sim seconds, distances in metres."""
@@ -208,6 +260,14 @@ class MatchSummary:
     field: FieldSize
     teleport_step: float
     warnings: list[str]
+    collisions: list[Collision] = field(default_factory=list)
+    ball_reaches: list[BallReach] = field(default_factory=list)
+    ball_reaches_dropped: int = 0  # free-ball episodes cut by the end of their running interval
+    hull_radius: float = 0.26  # [m]
+    contact_tolerance: float = 0.03  # [m]
+    separation_margin: float = 0.10  # [m]
+    free_distance: float = 1.0  # [m]
+    reach_distance: float = 0.45  # [m]
 
     @property
     def score_agrees(self) -> bool:
@@ -237,9 +297,35 @@ class MatchSummary:
                 counts[k.team] = counts.get(k.team, 0) + 1
         return counts
 
+    def collision_counts(self) -> dict:
+        """Return the total, the count per team pairing and the rate per minute of running time."""
+        same = dict.fromkeys(self.teams, 0)
+        for c in self.collisions:
+            if c.same_team:
+                team = team_of(c.robots[0])
+                same[team] = same.get(team, 0) + 1
+        minutes = self.running_time / 60.0
+        return {"total": len(self.collisions), "same_team": same,
+                "opponents": sum(1 for c in self.collisions if not c.same_team),
+                "per_minute": len(self.collisions) / minutes if minutes > 0 else 0.0}
+
+    def ball_reach_stats(self) -> dict:
+        """Return the number, median and mean [s] of the times to reach the ball, overall and per team."""
+        def stats(seconds: list[float]) -> dict:
+            return {"episodes": len(seconds),
+                    "median_s": _round3(np.median(seconds)) if seconds else None,
+                    "mean_s": _round3(np.mean(seconds)) if seconds else None}
+
+        per_team = {t: [] for t in self.teams}
+        for r in self.ball_reaches:
+            per_team.setdefault(r.team, []).append(r.seconds)
+        return {**stats([r.seconds for r in self.ball_reaches]),
+                "per_team": {t: stats(s) for t, s in per_team.items()}}
+
     def to_json(self) -> dict:
         r3 = _round3
         share = self.possession_share()
+        clashes = self.collision_counts()
         return {
             "teams": self.teams,
             "start_s": r3(self.start),
@@ -265,8 +351,18 @@ class MatchSummary:
             "coach_commands": [{"t": r3(c.t), "team": c.team, "match_mode": c.match_mode}
                                for c in self.coach_commands],
             "distance_run_m": {r: r3(d) for r, d in self.distance_run.items()},
+            "collisions": {**clashes, "per_minute": r3(clashes["per_minute"]),
+                           "contact_distance_m": r3(2 * self.hull_radius + self.contact_tolerance),
+                           "separation_distance_m": r3(2 * self.hull_radius + self.separation_margin),
+                           "events": [{"t": r3(c.t), "robots": list(c.robots)} for c in self.collisions]},
+            "ball_reach": {**self.ball_reach_stats(), "durations_s": [r3(r.seconds) for r in self.ball_reaches],
+                           "dropped": self.ball_reaches_dropped, "free_distance_m": self.free_distance,
+                           "reach_distance_m": self.reach_distance,
+                           "events": [{"t_free": r3(r.t_free), "t_reached": r3(r.t_reached), "robot": r.robot,
+                                       "team": r.team} for r in self.ball_reaches]},
             "field_m": {"length": self.field.length, "width": self.field.width, "goal_width": self.field.goal_width},
             "teleport_step_m": self.teleport_step,
+            "hull_radius_m": self.hull_radius,
             "definitions": DEFINITIONS,
             "warnings": self.warnings,
         }
@@ -306,6 +402,17 @@ def _inside(t: float, intervals: Sequence[tuple[float, float]]) -> int:
         if a <= t < b or (i == len(intervals) - 1 and t == b):
             return i
     return -1
+
+
+def interval_index(t: np.ndarray, intervals: Sequence[tuple[float, float]]) -> np.ndarray:
+    """Return for each time the index of the interval holding it, -1 if none (``_inside`` for an array)."""
+    t = np.asarray(t, dtype=float)
+    if not intervals:
+        return np.full(len(t), -1)
+    starts, ends = np.asarray(intervals, dtype=float).T
+    i = np.searchsorted(starts, t, side="right") - 1
+    inside = (i >= 0) & ((t < ends[i]) | ((i == len(starts) - 1) & (t == ends[-1])))
+    return np.where(inside, i, -1)
 
 
 def _state_at(referee: Sequence[RefereeState], t: float) -> RefereeState | None:
@@ -427,6 +534,83 @@ def distance_run(track: Track, teleport_step: float = 1.0) -> float:
     return float(steps[steps <= teleport_step].sum())
 
 
+def resample(tracks: Sequence[Track], t: np.ndarray) -> np.ndarray:
+    """Return the positions (len(t), len(tracks), 2) [m] interpolated at times t; NaN where a track does not
+    cover the time (before its first or after its last sample)."""
+    xy = np.full((len(t), len(tracks), 2), np.nan)
+    for k, track in enumerate(tracks):
+        if len(track.t) == 0:
+            continue
+        covered = (t >= track.t[0]) & (t <= track.t[-1])
+        for axis in (0, 1):
+            xy[covered, k, axis] = np.interp(t[covered], track.t, track.xy[:, axis])
+    return xy
+
+
+def _latch(on: np.ndarray, off: np.ndarray) -> np.ndarray:
+    """Return per column whether the last sample so far with ``on`` or ``off`` set had ``on`` (False before any)."""
+    rows = np.arange(len(on))[:, None]
+    last = np.maximum.accumulate(np.where(on | off, rows, -1), axis=0)
+    return (last >= 0) & np.take_along_axis(on, np.maximum(last, 0), axis=0)
+
+
+def collisions(tracks: dict[str, Track], intervals: Sequence[tuple[float, float]], hull_radius: float = 0.26,
+               contact_tolerance: float = 0.03, separation_margin: float = 0.10) -> list[Collision]:
+    """Return the onsets of robot-robot contact during running time, in time order (see ``DEFINITIONS``)."""
+    if separation_margin < contact_tolerance:
+        raise ValueError(f"separation margin {separation_margin} m must not be below the contact tolerance "
+                         f"{contact_tolerance} m")
+    robots = sorted(n for n, track in tracks.items() if is_robot(n) and len(track.t))
+    if len(robots) < 2 or not intervals:
+        return []
+    t = np.unique(np.concatenate([tracks[r].t for r in robots]))
+    xy = resample([tracks[r] for r in robots], t)
+    first, second = np.triu_indices(len(robots), k=1)
+    x, y = (np.ascontiguousarray(xy[..., axis]) for axis in (0, 1))  # (samples, robots) each
+    distance = np.hypot(x[:, first] - x[:, second], y[:, first] - y[:, second])  # (samples, pairs), NaN: not covered
+    contact = _latch(distance < 2 * hull_radius + contact_tolerance, distance > 2 * hull_radius + separation_margin)
+    onset = contact.copy()
+    onset[1:] &= ~contact[:-1]
+    onset &= (interval_index(t, intervals) >= 0)[:, None]
+    samples, pairs = np.nonzero(onset)  # row-major: in time order
+    return [Collision(float(t[i]), (robots[first[p]], robots[second[p]])) for i, p in zip(samples, pairs)]
+
+
+def ball_reaches(tracks: dict[str, Track], intervals: Sequence[tuple[float, float]], free_distance: float = 1.0,
+                 reach_distance: float = 0.45) -> tuple[list[BallReach], int]:
+    """Return the free-ball episodes ended by a robot reaching the ball, and how many the end of their running
+    interval cut (dropped); see ``DEFINITIONS``."""
+    if not reach_distance < free_distance:
+        raise ValueError(f"reach distance {reach_distance} m must be below the free distance {free_distance} m")
+    ball = tracks.get(BALL)
+    robots = sorted(n for n, track in tracks.items() if is_robot(n) and len(track.t))
+    if ball is None or len(ball.t) == 0 or not robots or not intervals:
+        return [], 0
+    gap = resample([tracks[r] for r in robots], ball.t) - ball.xy[:, None, :]
+    distance = np.hypot(gap[..., 0], gap[..., 1])  # (samples, robots)
+    distance[np.isnan(distance)] = np.inf  # robots not covered are left out
+    nearest = distance.argmin(axis=1)
+    nearest_distance = distance[np.arange(len(ball.t)), nearest]
+    interval = interval_index(ball.t, intervals)
+    running = interval >= 0
+    free = np.flatnonzero(running & np.isfinite(nearest_distance) & (nearest_distance > free_distance))
+    reached = np.flatnonzero(running & (nearest_distance <= reach_distance))
+    free_interval = interval[free]  # non-decreasing
+    episodes, dropped = [], 0
+    k = 0  # next free sample that may start an episode
+    while k < len(free):
+        start = free[k]
+        r = np.searchsorted(reached, start)
+        if r == len(reached) or interval[reached[r]] != interval[start]:
+            dropped += 1  # running time ended first: go on with the next running interval
+            k = np.searchsorted(free_interval, interval[start], side="right")
+            continue
+        end = reached[r]
+        episodes.append(BallReach(float(ball.t[start]), float(ball.t[end]), robots[nearest[end]]))
+        k = np.searchsorted(free, end, side="right")
+    return episodes, dropped
+
+
 def referee_events(referee: Sequence[RefereeState]) -> list[tuple[float, str]]:
     """Return the changes of ``last_event`` (empty texts left out)."""
     events, last = [], ""
@@ -449,8 +633,11 @@ def teams_of(log: MatchLog) -> list[str]:
 
 
 def analyse(log: MatchLog, field_size: FieldSize, default_attack: tuple[str, int] = ("nubot", 1),
-            teleport_step: float = 1.0) -> MatchSummary:
-    """Compute every statistic of the report; ``default_attack`` is (team, side) used without referee states."""
+            teleport_step: float = 1.0, hull_radius: float = 0.26, contact_tolerance: float = 0.03,
+            separation_margin: float = 0.10, free_distance: float = 1.0,
+            reach_distance: float = 0.45) -> MatchSummary:
+    """Compute every statistic of the report; ``default_attack`` is (team, side) used without referee states;
+    distances [m] as in ``DEFINITIONS``."""
     teams = teams_of(log)
     attack = default_attack_for(teams, *default_attack)
     intervals = running_intervals(log.referee, log.start, log.end)
@@ -466,6 +653,7 @@ def analyse(log: MatchLog, field_size: FieldSize, default_attack: tuple[str, int
     if not log.referee:
         warnings.append(f"no referee state recorded: all time counts as running; {default_attack[0]} attacks "
                         f"{'+x' if default_attack[1] > 0 else '-x'}")
+    reaches, dropped = ball_reaches(log.tracks, intervals, free_distance, reach_distance)
     return MatchSummary(
         teams=teams, start=log.start, end=log.end, running_time=sum(b - a for a, b in intervals),
         goals=goals, score=score, referee_score=referee_score,
@@ -473,7 +661,11 @@ def analyse(log: MatchLog, field_size: FieldSize, default_attack: tuple[str, int
         kicks=classify_kicks(log, intervals, attack, field_size),
         distance_run={n: distance_run(tr, teleport_step) for n, tr in sorted(log.tracks.items()) if is_robot(n)},
         referee_events=referee_events(log.referee), coach_commands=log.coach, field=field_size,
-        teleport_step=teleport_step, warnings=warnings)
+        teleport_step=teleport_step, warnings=warnings,
+        collisions=collisions(log.tracks, intervals, hull_radius, contact_tolerance, separation_margin),
+        ball_reaches=reaches, ball_reaches_dropped=dropped, hull_radius=hull_radius,
+        contact_tolerance=contact_tolerance, separation_margin=separation_margin, free_distance=free_distance,
+        reach_distance=reach_distance)
 
 
 def ball_samples_in_play(log: MatchLog, intervals: Sequence[tuple[float, float]]) -> np.ndarray:

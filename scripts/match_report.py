@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Report on one match from its rosbag alone: score, possession, passes, shots, referee events, distances, plots.
+"""Report on one match from its rosbag alone: score, possession, passes, shots, collisions, referee events, plots.
 
     python scripts/match_report.py matches/<match>/match.bag [--out DIR]
 
@@ -205,6 +205,18 @@ def format_summary(summary: ma.MatchSummary, bag: Path, out: Path) -> str:
     lines.append("  passes completed/tried: " + ", ".join(f"{t} {c['completed']}/{c['tried']}"
                                                            for t, c in passes.items()))
     lines.append("  shots: " + ", ".join(f"{t} {n}" for t, n in summary.shot_counts().items()))
+    clashes = summary.collision_counts()
+    lines.append(f"  collisions: {clashes['total']} ({clashes['per_minute']:.2f} per running minute): opponents "
+                 f"{clashes['opponents']}" + "".join(f", {t}-{t} {n}" for t, n in clashes["same_team"].items()))
+    reach = summary.ball_reach_stats()
+    line = f"  free balls reached: {reach['episodes']}"
+    if reach["episodes"]:
+        line += (f" (median {reach['median_s']:.2f} s, mean {reach['mean_s']:.2f} s to reach); "
+                 + ", ".join(f"{t} {s['episodes']}" + (f" (median {s['median_s']:.2f} s)" if s["episodes"] else "")
+                             for t, s in reach["per_team"].items()))
+    if summary.ball_reaches_dropped:
+        line += f"; {summary.ball_reaches_dropped} left out (running time ended first)"
+    lines.append(line)
     events = summary.referee_events
     lines.append(f"  referee events: {len(events)}")
     shown = events if len(events) <= 12 else [*events[:6], *events[-5:]]

@@ -171,6 +171,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=ROOT / "matches")
     parser.add_argument("--no-report", action="store_true")
     parser.add_argument("--perf-json", type=Path, help="measure real-time factor, control rates, CPU and memory")
+    parser.add_argument("--tracker", choices=("mpc", "baseline"), default="",
+                        help="the motion layer's tracker of every robot (default: as configured, mpc)")
     args = parser.parse_args(argv)
     teams = args.team or [TEAMS / "nubot.yaml", TEAMS / "rival.yaml"]
     if len(teams) != 2:
@@ -195,9 +197,10 @@ def main(argv: list[str] | None = None) -> int:
                               f"real_time_factor:={args.real_time_factor}", f"seed:={args.seed}"])
         rospy.wait_for_service("/sim_visual/spawn_model", timeout=60)
         recorder = master.launch("recorder", ["rosbag", "record", "-a", "-O", str(bag), "__name:=match_recorder"])
+        tracker = ["--tracker", args.tracker] if args.tracker else []
         for team_file, config in zip(teams, configs):
             master.launch(f"team_{config.prefix}", [sys.executable, str(ROOT / "scripts" / "spawn_team.py"),
-                                                    str(team_file)])
+                                                    str(team_file), *tracker])
         names = [n for c in configs for n in c.robot_names()]
         silent = wait_for_robots(names, timeout=180)
         if silent:

@@ -37,7 +37,7 @@ else
 fi
 
 log "catkin_make"
-if ! catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCMAKE_BUILD_TYPE=Release > .catkin_make.log 2>&1; then
+if ! catkin_make -DPYTHON_EXECUTABLE="$PWD/.venv/bin/python" -DCMAKE_BUILD_TYPE=Release > .catkin_make.log 2>&1; then
   tail -n 40 .catkin_make.log
   log "catkin_make failed (full log: .catkin_make.log)"
   exit 1

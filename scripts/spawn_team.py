@@ -61,6 +61,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("team_config", type=Path, help="team YAML (see src/nubot_control/config/teams/)")
     parser.add_argument("--keep-models", action="store_true", help="leave the models in the world on exit")
+    parser.add_argument("--tracker", choices=("mpc", "baseline"), default="",
+                        help="the motion layer's tracker for every robot (default: as configured)")
     args = parser.parse_args(argv)
     try:
         team = load_yaml(TeamConfig, args.team_config)
@@ -72,7 +74,7 @@ def main(argv: list[str] | None = None) -> int:
     rospy.init_node(f"spawner_{team.prefix}", disable_signals=True)
     spawn_models(team)
     launch_file = Path(tempfile.mkdtemp(prefix=f"team_{team.prefix}_")) / "team.launch"
-    launch_file.write_text(team_launch_xml(team))
+    launch_file.write_text(team_launch_xml(team, args.tracker))
     child = subprocess.Popen(["roslaunch", "--skip-log-check", str(launch_file)], start_new_session=True)
     print(f"[spawn] team {team.name}: {len(team.robots)} robots' nodes started (pid {child.pid})", flush=True)
     stopping = False

@@ -176,3 +176,78 @@ def test_plots_write_pngs(tmp_path):
     for name in ("heat.png", "empty.png", "traj.png"):
         data = (tmp_path / name).read_bytes()
         assert data.startswith(b"\x89PNG") and len(data) > 10_000
+
+
+# --- time to reach the ball: ball still at the origin, 30 Hz samples over 0-20 s --------------------------------
+
+T30 = np.arange(0, 601) / 30.0
+
+
+def track(name, x, y=0.0, t=T30):
+    return ma.Track(name, t, np.column_stack([np.broadcast_to(x, t.shape), np.broadcast_to(y, t.shape)]))
+
+
+def free_at_10_reached_at_12_5(t=T30):
+    """nubot1 holds the ball until 10 s; nubot3 passes 0.8 m from it at 11 s; rival2 reaches it at 12.5 s."""
+    return [track("football", 0.0),
+            track("nubot1", np.where(T30 < 10.0, 0.3, 3.0)),
+            track("nubot3", np.interp(T30, [0.0, 10.8, 11.0, 11.2], [-5.0, -5.0, -0.8, -5.0])),
+            track("rival2", 0.0, np.maximum(0.3, 0.3 + 5.0 * (12.5 - t)), t=t)]  # 0.47 m one sample before
+
+
+def reach_summary(tracks, referee=(), end=20.0):
+    log = ma.MatchLog(tracks={tr.name: tr for tr in tracks}, referee=list(referee), start=0.0, end=end)
+    return ma.analyse(log, FIELD)
+
+
+def test_free_ball_reached_by_a_rival_is_one_episode_credited_to_rival():
+    s = reach_summary(free_at_10_reached_at_12_5())
+    assert [(r.t_free, r.t_reached, r.robot, r.team) for r in s.ball_reaches] == [(10.0, 12.5, "rival2", "rival")]
+    report = s.to_json()["ball_reach"]
+    assert (report["episodes"], report["median_s"], report["mean_s"], report["durations_s"]) == (1, 2.5, 2.5, [2.5])
+    assert report["per_team"] == {"nubot": {"episodes": 0, "median_s": None, "mean_s": None},
+                                  "rival": {"episodes": 1, "median_s": 2.5, "mean_s": 2.5}}
+    assert report["dropped"] == 0
+    json.dumps(report)
+
+
+def test_episode_cut_by_a_stoppage_or_the_end_of_the_recording_is_dropped():
+    stopped = reach_summary(free_at_10_reached_at_12_5(), referee=[state(0.0, True), state(12.0, False),
+                                                                   state(14.0, True)])
+    assert stopped.ball_reaches == [] and stopped.ball_reaches_dropped == 1  # rival2 reached it while stopped
+    cut = [ma.Track(tr.name, tr.t[tr.t <= 12.0], tr.xy[tr.t <= 12.0]) for tr in free_at_10_reached_at_12_5()]
+    ended = reach_summary(cut, end=12.0)
+    assert ended.ball_reaches == [] and ended.ball_reaches_dropped == 1
+    assert ended.to_json()["ball_reach"]["median_s"] is None
+
+
+def test_episode_starting_in_a_stoppage_counts_from_the_restart():
+    s = reach_summary(free_at_10_reached_at_12_5(), referee=[state(0.0, True), state(9.0, False), state(11.5, True)])
+    assert [(r.t_free, r.t_reached) for r in s.ball_reaches] == [(11.5, 12.5)]
+
+
+def test_ball_reach_statistics_per_team():
+    nubot = np.where((T30 < 2.0) | ((T30 >= 3.0) & (T30 < 5.0)) | (T30 >= 12.0), 0.3, 3.0)
+    rival = np.where((T30 >= 7.0) & (T30 < 8.0), -0.3, -3.0)
+    s = reach_summary([track("football", 0.0), track("nubot1", nubot), track("rival1", rival)])
+    assert [(r.t_free, r.t_reached, r.robot) for r in s.ball_reaches] == [
+        (2.0, 3.0, "nubot1"), (5.0, 7.0, "rival1"), (8.0, 12.0, "nubot1")]
+    report = s.to_json()["ball_reach"]
+    assert (report["episodes"], report["median_s"], report["mean_s"]) == (3, 2.0, 2.333)
+    assert report["per_team"] == {"nubot": {"episodes": 2, "median_s": 2.5, "mean_s": 2.5},
+                                  "rival": {"episodes": 1, "median_s": 2.0, "mean_s": 2.0}}
+    assert report["durations_s"] == [1.0, 2.0, 4.0]
+
+
+def test_ball_reach_leaves_out_robots_before_their_track_starts():
+    # rival2 is first seen at 12.5 s (25 Hz) next to the ball: holding that position earlier would hide the free ball
+    late = 12.5 + np.arange(0, 188) / 25.0
+    tracks = [*free_at_10_reached_at_12_5()[:3], track("rival2", 0.0, 0.3, t=late)]
+    s = reach_summary(tracks)
+    assert [(r.t_free, r.t_reached, r.robot) for r in s.ball_reaches] == [(10.0, 12.5, "rival2")]
+
+
+def test_ball_reach_needs_a_ball_and_a_smaller_reach_distance():
+    assert ma.ball_reaches({"nubot1": track("nubot1", 3.0)}, [(0.0, 20.0)]) == ([], 0)
+    with pytest.raises(ValueError, match="reach distance 1.0 m must be below the free distance 1.0 m"):
+        ma.ball_reaches({}, [(0.0, 20.0)], free_distance=1.0, reach_distance=1.0)

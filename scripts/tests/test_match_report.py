@@ -20,6 +20,7 @@ import pytest
 from rosbags.rosbag1 import Writer
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
+import match_analysis as ma
 import match_report
 
 MSG_DIR = Path(__file__).resolve().parents[2] / "src" / "nubot_common" / "msg"
@@ -213,8 +214,12 @@ def test_report_referee_events_coach_commands_and_distances(report):
 def test_report_json_keys_and_pngs(report):
     out, r = report
     assert {"bag", "teams", "score", "score_from_referee", "goals", "possession", "passes", "shots",
-            "referee_events", "distance_run_m", "definitions", "files", "warnings"} <= set(r)
+            "referee_events", "distance_run_m", "collisions", "ball_reach", "hull_radius_m", "definitions", "files",
+            "warnings"} <= set(r)
     assert r["warnings"] == []
+    assert {"collisions", "ball_reach"} <= set(r["definitions"])
+    assert r["hull_radius_m"] == 0.26
+    assert (r["collisions"]["total"], r["collisions"]["events"]) == (0, [])  # the scripted robots keep 2 m apart
     for name in ("heatmap.png", "trajectories.png"):
         data = (out / name).read_bytes()
         assert data.startswith(b"\x89PNG") and len(data) > 10_000
@@ -227,7 +232,25 @@ def test_summary_and_progress_are_printed(match_bag, tmp_path, capsys):
     assert "goal at 19.0 s for rival (own goal by nubot3, half 1 at 16.0 s game time)" in out
     assert "passes completed/tried: nubot 2/5, rival 0/1" in out
     assert "nubot: nubot1 0.0, nubot2 3.0, nubot3 7.0, nubot4 0.0" in out
+    assert "collisions: 0 (0.00 per running minute): opponents 0, nubot-nubot 0, rival-rival 0" in out
+    assert "free balls reached: " in out
     assert err == ""  # a short bag: no progress lines
+
+
+def test_summary_prints_collisions_and_ball_reach(tmp_path):
+    t = np.arange(0, 301) / 30.0  # 0-10 s, all running
+
+    def track(name, x, y):
+        return ma.Track(name, t, np.column_stack([np.broadcast_to(x, t.shape), np.broadcast_to(y, t.shape)]))
+
+    tracks = [track("football", 3.0, 0.0), track("nubot1", 0.0, 0.0),
+              track("rival1", np.interp(t, [0.0, 2.1], [-2.0, -0.5]), 0.0),  # runs into nubot1 at 2.03 s
+              track("nubot2", np.where(t < 4.0, 3.3, 6.0), 0.0),  # leaves the ball free at 4 s
+              track("rival2", 3.0, np.where(t < 6.0, 3.0, 0.3))]  # reaches it at 6 s
+    log = ma.MatchLog(tracks={tr.name: tr for tr in tracks}, start=0.0, end=10.0)
+    lines = match_report.format_summary(ma.analyse(log, ma.FieldSize()), tmp_path / "m.bag", tmp_path).splitlines()
+    assert "  collisions: 1 (6.00 per running minute): opponents 1, nubot-nubot 0, rival-rival 0" in lines
+    assert "  free balls reached: 1 (median 2.00 s, mean 2.00 s to reach); nubot 0, rival 1 (median 2.00 s)" in lines
 
 
 def test_progress_is_reported_every_tenth_of_the_messages(match_bag):

@@ -1,19 +1,35 @@
-"""Go-to motion with speed/acceleration limits and obstacle avoidance (the baseline tracker).
+"""The motion layer: every behaviour's target pose becomes a body-frame velocity command here.
 
-Requires: own pose and last commanded velocity, a target pose, obstacles (team frame, m).
-Provides: ``MotionController.command`` -> body-frame (Vx, Vy, w) for ``nubot_common/VelCmd``.
-Obstacles are avoided with sub-targets: when the straight line to the target passes
-within the clearance of an obstacle, the robot heads for a point beside that obstacle
-instead, on the side nearer the line; this repeats for the next obstacle on the way.
+Requires: own pose, a target pose (or waypoints), obstacles (team frame, m), the cycle time.
+Provides: ``MotionController.command`` / ``follow`` -> body-frame (Vx, Vy, w) for
+``nubot_common/VelCmd``, and ``MotionController.reference`` (where the robot should be now).
+Two trackers, chosen by ``MotionParams.tracker``:
+
+- ``mpc``: every cycle the path is replanned (``path_planning``: subtargets around the
+  obstacles, the goal posts and inside the field limits, a cubic B-spline through them,
+  time-parameterised under the speed, acceleration and curvature limits) from where the robot
+  should be now, and tracked by the Laguerre-parameterised MPC (``mpc.LaguerreMpc``), whose
+  command keeps the velocity and acceleration limits;
+- ``baseline``: heads for the first sub-target around the obstacles at a speed limited by the
+  distance to go and by an acceleration limit (the tracker team play started with).
+
+A robot holding the ball moves under the tighter ``dribble_speed`` and ``dribble_accel``. The
+heading is a rate-limited proportional loop in both. An obstacle is (x, y), a robot, or
+(x, y, clearance): keep the centre that far away.
 """
 
 from __future__ import annotations
 
 import math
+import time
+
+import numpy as np
 
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate, wrap_angle
+from nubot_control.mpc import LaguerreMpc, MpcParams
 from nubot_control.params import MotionParams
+from nubot_control.path_planning import Bounds, Disc, PlannerParams, Trajectory, plan
 
 _MAX_DETOURS = 3
 
@@ -60,30 +76,125 @@ def sub_target(start: tuple[float, float], goal: tuple[float, float], obstacles:
 class MotionController:
     """Turns target poses into body-frame velocity commands, one control cycle at a time."""
 
-    def __init__(self, params: MotionParams, field: FieldGeometry):
+    def __init__(self, params: MotionParams, field: FieldGeometry, dt: float = 1.0 / 33.0):
         self.params = params
         self.field = field
         self.velocity = (0.0, 0.0)  # last commanded velocity, team frame [m/s]
         self.w = 0.0
+        margin = field.border - params.robot_radius
+        self.bounds = Bounds(-field.half_length - margin, field.half_length + margin,
+                             -field.half_width - margin, field.half_width + margin)
+        self.posts = [Disc(x, y, field.post_radius) for side in (1, -1) for x, y in field.goal_posts(side)]
+        self.mpc = LaguerreMpc(MpcParams(dt=dt, max_speed=params.max_speed, max_accel=params.max_accel)) \
+            if params.tracker == "mpc" else None
+        self.trajectory: Trajectory | None = None  # the plan being tracked (mpc), its time 0 is the last cycle
+        self.reference: tuple[tuple[float, float], tuple[float, float]] | None = None  # (position, velocity) now
+        self.compute_time = 0.0  # wall time of the last cycle's planning and tracking [s]
+        self._given: list[tuple[float, float]] = []  # the route asked for last cycle
+        self._waypoints: list[tuple[float, float]] = []  # what remains of it
 
     def reset(self) -> None:
         self.velocity, self.w = (0.0, 0.0), 0.0
+        self.trajectory, self.reference, self._given, self._waypoints = None, None, [], []
 
     def command(self, me: Pose2D, target: Pose2D, obstacles: list[tuple[float, ...]], dt: float,
-                speed_limit: float | None = None) -> tuple[float, float, float]:
-        """One cycle's body-frame command; an obstacle is (x, y) (a robot) or (x, y, clearance) [m]."""
+                speed_limit: float | None = None, holding: bool = False) -> tuple[float, float, float]:
+        """One cycle's body-frame command towards ``target`` (position and heading)."""
+        return self.follow(me, [(target.x, target.y)], target.theta, obstacles, dt, speed_limit, holding)
+
+    def follow(self, me: Pose2D, waypoints: list[tuple[float, float]], heading: float,
+               obstacles: list[tuple[float, ...]], dt: float, speed_limit: float | None = None,
+               holding: bool = False) -> tuple[float, float, float]:
+        """One cycle's body-frame command along ``waypoints`` (the last is the goal), ending facing ``heading``.
+
+        The mpc tracker passes through the waypoints in order (a waypoint is dropped once passed);
+        the baseline heads for the first one and drops it within 0.3 m.
+        """
+        started = time.perf_counter()
         p = self.params
-        limit = min(p.max_speed, speed_limit or p.max_speed)
-        margin = self.field.border - p.robot_radius
-        goal = (max(-self.field.half_length - margin, min(self.field.half_length + margin, target.x)),
-                max(-self.field.half_width - margin, min(self.field.half_width + margin, target.y)))
+        limit = min(p.max_speed, speed_limit or p.max_speed, p.dribble_speed if holding else math.inf)
+        accel = p.dribble_accel if holding else p.max_accel
+        goals = [self.bounds.clamp(w) for w in waypoints]
+        if self.mpc is not None:
+            vx, vy = self._track(me, goals, obstacles, dt, limit, accel)
+        else:
+            if goals != self._given:  # a new route; else go on with what remains of it
+                self._given, self._waypoints = goals, list(goals)
+            while len(self._waypoints) > 1 and \
+                    math.hypot(self._waypoints[0][0] - me.x, self._waypoints[0][1] - me.y) < 0.3:
+                self._waypoints.pop(0)
+            vx, vy = self._baseline(me, self._waypoints[0], obstacles, dt, limit, accel)
+        self.velocity = (vx, vy)
+        err = wrap_angle(heading - me.theta)
+        w_want = max(-p.max_rot_speed, min(p.max_rot_speed, p.heading_gain * err))
+        self.w += max(-p.max_rot_accel * dt, min(p.max_rot_accel * dt, w_want - self.w))
+        self.compute_time = time.perf_counter() - started
+        bx, by = rotate(vx, vy, -me.theta)
+        return bx, by, self.w
+
+    # --- mpc: replan, then track ------------------------------------------------------------
+    def _discs(self, me: Pose2D, obstacles: list[tuple[float, ...]]) -> list[Disc]:
+        p = self.params
+        discs = list(self.posts)
+        for o in obstacles:
+            if len(o) > 2:  # keep the centre o[2] away: a disc that gives that clearance
+                discs.append(Disc(o[0], o[1], max(0.0, o[2] - p.robot_radius - p.clearance)))
+            else:
+                discs.append(Disc(o[0], o[1], p.robot_radius))
+        return [d for d in discs if math.hypot(d.x - me.x, d.y - me.y) < p.planning_range]
+
+    def _track(self, me: Pose2D, goals: list[tuple[float, float]], obstacles: list[tuple[float, ...]],
+               dt: float, limit: float, accel: float) -> tuple[float, float]:
+        p = self.params
+        given, start, start_velocity = goals, (me.x, me.y), self.velocity
+        if self.trajectory is not None and self._given and math.dist(self._given[-1], goals[-1]) < p.replan_tolerance:
+            ref, ref_v = self.trajectory.state_at(dt)  # where the last plan has the robot now
+            if math.dist(ref, (me.x, me.y)) < p.replan_tolerance:  # on track: replan from there, smoothly
+                start, start_velocity = (float(ref[0]), float(ref[1])), (float(ref_v[0]), float(ref_v[1]))
+                if len(goals) == len(self._given):  # the same route: keep only the waypoints still ahead
+                    goals = self._ahead(start, start_velocity, self._waypoints[:-1]) + [goals[-1]]
+        self._given, self._waypoints = given, goals
+        planner = PlannerParams(robot_radius=p.robot_radius, safety_margin=p.clearance,
+                                max_speed=limit * p.plan_share, max_accel=accel * p.plan_share,
+                                max_lateral_accel=p.max_lateral_accel * p.plan_share)
+        self.trajectory = plan(start, goals, self._discs(me, obstacles), planner, self.bounds,
+                               start_velocity=start_velocity)
+        horizon = self.mpc.params.horizon
+        times = np.arange(horizon + 1) * self.mpc.params.dt
+        ref_positions, ref_velocities = self.trajectory.states_at(times)
+        self.reference = ((float(ref_positions[0, 0]), float(ref_positions[0, 1])),
+                          (float(ref_velocities[0, 0]), float(ref_velocities[0, 1])))
+        u = self.mpc.command(np.array([me.x, me.y]), np.array(self.velocity), ref_positions,
+                             ref_velocities[:horizon], max_speed=min(limit, self.mpc.params.max_speed),
+                             max_accel=min(accel, self.mpc.params.max_accel))
+        return float(u[0]), float(u[1])
+
+    @staticmethod
+    def _ahead(start: tuple[float, float], velocity: tuple[float, float],
+               waypoints: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        """The waypoints not yet passed from ``start`` moving at ``velocity``: a waypoint is passed when
+        it is within 10 cm, or within 1 m and behind."""
+        remaining = list(waypoints)
+        while remaining:
+            gx, gy = remaining[0]
+            close = math.hypot(gx - start[0], gy - start[1])
+            behind = (gx - start[0]) * velocity[0] + (gy - start[1]) * velocity[1] < 0.0
+            if not (close < 0.1 or (behind and close < 1.0)):
+                break
+            remaining.pop(0)
+        return remaining
+
+    # --- baseline ----------------------------------------------------------------------------
+    def _baseline(self, me: Pose2D, goal: tuple[float, float], obstacles: list[tuple[float, ...]], dt: float,
+                  limit: float, accel: float) -> tuple[float, float]:
+        p = self.params
         clearance = 2.0 * p.robot_radius + p.clearance
         near = [o for o in obstacles if math.hypot(o[0] - me.x, o[1] - me.y) < 4.0]
         aim = sub_target((me.x, me.y), goal, near, clearance)
         dx, dy = aim[0] - me.x, aim[1] - me.y
         dist_goal = math.hypot(goal[0] - me.x, goal[1] - me.y)
         dist = math.hypot(dx, dy)
-        speed = min(limit, math.sqrt(2.0 * p.max_accel * dist_goal), p.position_gain * dist_goal)
+        speed = min(limit, math.sqrt(2.0 * accel * dist_goal), p.position_gain * dist_goal)
         want = (dx / dist * speed, dy / dist * speed) if dist > 1e-3 else (0.0, 0.0)
         for obstacle in near:  # push away from anything already too close
             ox, oy = obstacle[0], obstacle[1]
@@ -94,16 +205,12 @@ class MotionController:
                 want = (want[0] + (me.x - ox) / gap * push, want[1] + (me.y - oy) / gap * push)
         dvx, dvy = want[0] - self.velocity[0], want[1] - self.velocity[1]
         dv = math.hypot(dvx, dvy)
-        step = p.max_accel * dt
+        step = accel * dt
         if dv > step:
             dvx, dvy = dvx / dv * step, dvy / dv * step
         vx, vy = self.velocity[0] + dvx, self.velocity[1] + dvy
         v = math.hypot(vx, vy)
         if v > limit:
             vx, vy = vx / v * limit, vy / v * limit
-        self.velocity = (vx, vy)
-        err = wrap_angle(target.theta - me.theta)
-        w_want = max(-p.max_rot_speed, min(p.max_rot_speed, p.heading_gain * err))
-        self.w += max(-p.max_rot_accel * dt, min(p.max_rot_accel * dt, w_want - self.w))
-        bx, by = rotate(vx, vy, -me.theta)
-        return bx, by, self.w
+        self.reference = ((goal[0], goal[1]), (0.0, 0.0))
+        return vx, vy

@@ -11,23 +11,36 @@ from dataclasses import field as dc_field
 from nubot_common.field import FieldGeometry
 from nubot_common.params import require_non_negative, require_positive
 
+TRACKERS = ("mpc", "baseline")
+
 
 @dataclass(frozen=True)
 class MotionParams:
+    tracker: str = "mpc"  # "mpc": B-spline path + Laguerre MPC; "baseline": sub-target go-to
     max_speed: float = 3.0  # [m/s]
     max_accel: float = 3.0  # [m/s^2]
+    max_lateral_accel: float = 2.0  # on curves: speed <= sqrt(a / curvature) [m/s^2], below max_accel
     max_rot_speed: float = 4.0  # [rad/s]
     max_rot_accel: float = 8.0  # [rad/s^2]
     dribble_speed: float = 1.5  # while holding the ball [m/s]
+    dribble_accel: float = 1.5  # while holding the ball [m/s^2]
+    replan_tolerance: float = 0.3  # replan from the reference while this close to it, else from the robot [m]
+    plan_share: float = 0.92  # the plan uses this share of the speed and acceleration limits (room to correct)
+    planning_range: float = 8.0  # obstacles farther than this are left out of the plan [m]
     position_gain: float = 2.5  # [1/s], velocity per metre of error near the target
     heading_gain: float = 4.0  # [1/s]
     robot_radius: float = 0.26  # [m]
     clearance: float = 0.25  # kept free between two robots' hulls [m]
 
     def __post_init__(self) -> None:
-        require_positive(self, "max_speed", "max_accel", "max_rot_speed", "max_rot_accel", "dribble_speed",
-                     "position_gain", "heading_gain", "robot_radius")
+        require_positive(self, "max_speed", "max_accel", "max_lateral_accel", "max_rot_speed", "max_rot_accel",
+                         "dribble_speed", "dribble_accel", "replan_tolerance", "planning_range", "position_gain",
+                         "heading_gain", "robot_radius")
         require_non_negative(self, "clearance")
+        if not 0.0 < self.plan_share <= 1.0:
+            raise ValueError(f"plan_share must lie in (0, 1], got {self.plan_share}")
+        if self.tracker not in TRACKERS:
+            raise ValueError(f"tracker must be one of {', '.join(TRACKERS)}, got {self.tracker!r}")
 
 
 @dataclass(frozen=True)

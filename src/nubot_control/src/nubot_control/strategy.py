@@ -48,7 +48,7 @@ class Strategy:
     def __init__(self, params: ControlParams, agent_id: int):
         self.params = params
         self.agent_id = agent_id
-        self.motion = MotionController(params.motion, params.field)
+        self.motion = MotionController(params.motion, params.field, 1.0 / params.rate)
         self.allocator = RoleAllocator(params.play, params.motion, params.field)
         self.role = Role.NOROLE
         self.role_since = 0.0
@@ -77,7 +77,7 @@ class Strategy:
             vx = vy = w = 0.0
         else:
             vx, vy, w = self.motion.command(state.me.pose, intent.target, self._obstacles(state, intent), dt,
-                                            intent.speed_limit)
+                                            intent.speed_limit, holding=state.me.holding)
         if intent.kick is not None and state.me.holding:
             self._my_pass, self._pass_time = intent.pass_plan, state.time
             self._kicked_since_start = True

@@ -1,7 +1,8 @@
-"""Unit tests of the go-to motion with obstacle avoidance."""
+"""Unit tests of the motion layer (both trackers) on a kinematic robot: targets, limits, obstacles, waypoints."""
 
 import math
 
+import numpy as np
 import pytest
 
 from nubot_common.field import FieldGeometry
@@ -10,42 +11,97 @@ from nubot_control.motion import MotionController, sub_target
 from nubot_control.params import MotionParams
 
 P = MotionParams()
+DT = 1 / 33
+TRACKERS = ["mpc", "baseline"]
 
 
-def drive(start, target, obstacles, seconds=8.0, dt=1 / 33):
-    """Integrate the commands kinematically; return the path."""
-    ctl = MotionController(P, FieldGeometry())
+def drive(start, target, obstacles, seconds=8.0, tracker="mpc", holding=False, waypoints=None, **params):
+    """Integrate the commands kinematically; return the path and the controller."""
+    ctl = MotionController(MotionParams(tracker=tracker, **params), FieldGeometry(), DT)
     pose, path = start, [start]
-    for _ in range(int(seconds / dt)):
-        bx, by, w = ctl.command(pose, target, obstacles, dt)
+    for _ in range(int(seconds / DT)):
+        if waypoints is None:
+            bx, by, w = ctl.command(pose, target, obstacles, DT, holding=holding)
+        else:
+            bx, by, w = ctl.follow(pose, waypoints, target.theta, obstacles, DT)
         vx, vy = rotate(bx, by, pose.theta)
-        pose = Pose2D(pose.x + vx * dt, pose.y + vy * dt, pose.theta + w * dt)
+        pose = Pose2D(pose.x + vx * DT, pose.y + vy * DT, pose.theta + w * DT)
         path.append(pose)
     return path, ctl
 
 
-def test_reaches_the_target_pose():
-    path, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(4.0, -2.0, 1.5), [])
+def speeds_and_accels(path):
+    xy = np.array([(p.x, p.y) for p in path])
+    v = np.diff(xy, axis=0) / DT
+    return np.linalg.norm(v, axis=1), np.linalg.norm(np.diff(v, axis=0), axis=1) / DT
+
+
+@pytest.mark.parametrize("tracker", TRACKERS)
+def test_reaches_the_target_pose(tracker):
+    path, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(4.0, -2.0, 1.5), [], tracker=tracker)
     end = path[-1]
     assert (end.x, end.y, end.theta) == pytest.approx((4.0, -2.0, 1.5), abs=0.03)
 
 
-def test_speed_and_acceleration_stay_within_limits():
-    path, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(8.0, 0.0, 0.0), [], seconds=5.0)
-    dt = 1 / 33
-    speeds = [math.hypot(b.x - a.x, b.y - a.y) / dt for a, b in zip(path, path[1:])]
-    assert max(speeds) <= P.max_speed + 1e-6
-    accels = [abs(b - a) / dt for a, b in zip(speeds, speeds[1:])]
-    assert max(accels) <= P.max_accel + 1e-6
+@pytest.mark.parametrize("tracker", TRACKERS)
+def test_speed_and_acceleration_stay_within_limits(tracker):
+    path, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(8.0, 3.0, 0.0), [(4.0, 1.6)], seconds=6.0, tracker=tracker)
+    speeds, accels = speeds_and_accels(path)
+    assert speeds.max() <= P.max_speed + 1e-6
+    assert accels.max() <= P.max_accel + 1e-6
+    assert speeds.max() > 0.9 * P.max_speed, "it does use the speed it has"
 
 
+@pytest.mark.parametrize("tracker", TRACKERS)
+def test_a_robot_holding_the_ball_keeps_the_dribbling_limits(tracker):
+    path, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(6.0, 2.0, 0.0), [], seconds=6.0, tracker=tracker, holding=True)
+    speeds, accels = speeds_and_accels(path)
+    assert speeds.max() <= P.dribble_speed + 1e-6
+    assert accels.max() <= max(P.dribble_accel, P.max_accel if tracker == "mpc" else 0.0) + 1e-6
+    assert np.percentile(accels, 90) <= P.dribble_accel + 1e-6, "the plan itself speeds up gently"
+    assert math.dist((path[-1].x, path[-1].y), (6.0, 2.0)) < 0.05
+
+
+@pytest.mark.parametrize("tracker", TRACKERS)
 @pytest.mark.parametrize("offset", [0.0, 0.2, -0.3])
-def test_never_drives_through_an_obstacle(offset):
+def test_never_drives_through_an_obstacle(tracker, offset):
     obstacles = [(3.0, offset), (5.0, -offset)]
-    path, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(8.0, 0.0, 0.0), obstacles, seconds=10.0)
+    path, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(8.0, 0.0, 0.0), obstacles, seconds=10.0, tracker=tracker)
     closest = min(math.hypot(p.x - ox, p.y - oy) for p in path for ox, oy in obstacles)
     assert closest > 2 * P.robot_radius, "the hulls never touch"
     assert path[-1].x == pytest.approx(8.0, abs=0.05)
+
+
+def test_mpc_follows_waypoints_in_order_around_two_robots():
+    """The Fig. 13 scene on a kinematic robot: via p1 and p2 to p3, clear of both obstacles."""
+    waypoints = [(-2.0, 2.0), (2.0, -2.0), (6.0, 2.0)]
+    obstacles = [(-4.0, 0.0), (0.0, 0.0)]
+    path, ctl = drive(Pose2D(-6.0, -3.0, 0.0), Pose2D(6.0, 2.0, 0.0), obstacles, seconds=14.0,
+                      waypoints=waypoints, max_speed=3.25)
+    xy = np.array([(p.x, p.y) for p in path])
+    passes = [int(np.argmin(np.linalg.norm(xy - w, axis=1))) for w in waypoints]
+    assert passes == sorted(passes), "p1, then p2, then p3"
+    assert all(np.linalg.norm(xy - w, axis=1).min() < 0.1 for w in waypoints)
+    gaps = [np.linalg.norm(xy - o, axis=1).min() - 2 * P.robot_radius for o in obstacles]
+    assert min(gaps) > 0.1
+    assert np.linalg.norm(xy[-1] - waypoints[-1]) < 0.03
+
+
+def test_mpc_reference_moves_on_smoothly_from_cycle_to_cycle():
+    ctl = MotionController(MotionParams(), FieldGeometry(), DT)
+    pose, refs = Pose2D(0.0, 0.0, 0.0), []
+    for _ in range(120):
+        bx, by, w = ctl.command(pose, Pose2D(7.0, 3.0, 0.0), [(3.5, 1.4)], DT)
+        refs.append(ctl.reference[0])
+        vx, vy = rotate(bx, by, pose.theta)
+        pose = Pose2D(pose.x + vx * DT, pose.y + vy * DT, pose.theta + w * DT)
+    steps = np.linalg.norm(np.diff(np.array(refs), axis=0), axis=1)
+    assert steps.max() <= P.max_speed * DT * 1.3, "no jump: each cycle replans from where the last plan was"
+
+
+def test_an_unknown_tracker_is_refused():
+    with pytest.raises(ValueError, match="tracker must be one of mpc, baseline"):
+        MotionParams(tracker="pid")
 
 
 def test_sub_target_is_the_goal_when_the_way_is_free():

@@ -30,6 +30,9 @@ def test_launch_file_prefixes_every_robot():
     assert relay.get("type") == "sim_interface" and relay.get("ns") == "rival"
     robots = [inc.find("arg[@name='robot']").get("value") for inc in root.findall("include")]
     assert robots == [f"rival{k}" for k in range(1, 6)]
+    assert {inc.find("arg[@name='tracker']").get("value") for inc in root.findall("include")} == {""}
+    chosen = ET.fromstring(team_launch_xml(team, "baseline"))
+    assert {inc.find("arg[@name='tracker']").get("value") for inc in chosen.findall("include")} == {"baseline"}
 
 
 def test_bad_team_configs_are_refused():
