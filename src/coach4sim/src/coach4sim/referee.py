@@ -90,6 +90,7 @@ class AutomaticReferee:
         self._deadline = 0.0  # ... and must be by this sim time [s]
         self._ball_ref: tuple[float, float] | None = None  # where the ball was when play resumed
         self._spot: tuple[float, float] | None = None  # SETUP: where the ball was placed for the restart
+        self._replaced: tuple[float, float, float] | None = None  # PLAY: (x, y, until) a re-placement to see
         self._stuck_since: tuple[float, float, float] | None = None  # (x, y, t) of a contested, still ball
         self._between_halves = True  # before the match or in a half-time break (also when stopped there)
         self._last_ball: tuple[float, float] | None = None  # where the ball was at the latest update
@@ -112,6 +113,11 @@ class AutomaticReferee:
     def _judge(self, snap: WorldSnapshot) -> RefereeDecision | None:
         p, f = self.params, self.params.field
         x, y, z = snap.ball
+        if self._replaced is not None:  # the ball was just put back: judge it once the simulator shows it there
+            rx, ry, until = self._replaced
+            if math.hypot(x - rx, y - ry) > p.in_play_distance / 2.0 and snap.time < until:
+                return None
+            self._replaced = None
         goal_side = snap.goals[0].side if snap.goals else self._goal_by_geometry(x, y, z)
         goal_text = ""
         if goal_side is not None:
@@ -235,6 +241,7 @@ class AutomaticReferee:
         self._pending = False
         self._ball_ref = self._stuck_since = None
         self._spot = spot
+        self._replaced = None
 
     def _start_play(self, now: float) -> RefereeDecision:
         """STARTROBOT; a ball pushed off its spot during the setup goes back there first."""
@@ -249,6 +256,7 @@ class AutomaticReferee:
                 math.dist(spot, self._last_ball) > self.params.in_play_distance / 2.0:
             x, y = self._last_ball
             self._ball_ref = spot
+            self._replaced = (spot[0], spot[1], now + 1.0)
             return self._decide(spot, f"{text} (the ball, moved to ({x:+.2f}, {y:+.2f}) during the setup, "
                                       "goes back to its spot)")
         return self._decide(None, text)

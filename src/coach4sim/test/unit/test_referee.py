@@ -39,6 +39,20 @@ def test_a_ball_pushed_off_its_spot_during_the_setup_goes_back_at_startrobot(mat
     assert match.referee.restart_pending, "the replaced ball has not been played yet"
 
 
+def test_the_ball_is_judged_only_once_the_simulator_shows_it_back_on_its_spot(match):
+    match.step()
+    match.run(2.0)
+    match.ball = (3.0, 6.3, 0.11)  # pushed over the side line during the kickoff setup
+    match.run(1.75)
+    assert match.step(0.25).ball == (0.0, 0.0)
+    match.ball = (3.0, 6.3, 0.11)  # the simulator has not applied the placement yet
+    assert match.step(0.05) is None, "no throw-in for where the ball was before it was put back"
+    match.ball = (0.0, 0.0, 0.11)
+    assert match.run(2.0) == [] and match.game.running
+    match.ball = (3.0, 6.3, 0.11)
+    assert "throw-in" in match.step(0.25, last_touch="nubot2").event, "later the lines count again"
+
+
 def test_a_ball_still_on_its_spot_is_left_alone_at_startrobot(match):
     match.step()
     match.ball = (0.1, 0.05, 0.11)
