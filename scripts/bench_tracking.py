@@ -188,25 +188,14 @@ def plot(results: dict, speed: float, path: np.ndarray, out: Path) -> list[Path]
         ax.plot(x, y, "ko", ms=4)
         ax.annotate(name, (x, y), textcoords="offset points", xytext=(5, 5))
     ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_title(f"reference vs real trajectory, at most {speed} m/s")
-    ax.legend(loc="lower right", fontsize=8)
-    files.append(out / f"tracking_path_{speed}.png")
-    fig.savefig(files[-1], dpi=120, bbox_inches="tight")
-    plt.close(fig)
+    files.append(_save(fig, ax, ("x [m]", "y [m]"), f"reference vs real trajectory, at most {speed} m/s",
+                       out / f"tracking_path_{speed}.png", "lower right"))
 
     fig, ax = plt.subplots(figsize=(8, 3.5))
     for tracker, r in results.items():
         ax.plot(r["series"]["t"], r["series"]["speed"], color=colours[tracker], label=tracker)
     ax.axhline(speed, color="k", ls=":", label=f"limit {speed} m/s")
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("speed [m/s]")
-    ax.set_title("speed")
-    ax.legend(fontsize=8)
-    files.append(out / f"tracking_speed_{speed}.png")
-    fig.savefig(files[-1], dpi=120, bbox_inches="tight")
-    plt.close(fig)
+    files.append(_save(fig, ax, ("time [s]", "speed [m/s]"), "speed", out / f"tracking_speed_{speed}.png"))
 
     fig, ax = plt.subplots(figsize=(8, 3.5))
     for tracker, r in results.items():
@@ -215,14 +204,20 @@ def plot(results: dict, speed: float, path: np.ndarray, out: Path) -> list[Path]
         if tracker == "mpc":
             ax.plot(s["t_ref"], np.array(s["error"]) * 100, color=colours[tracker], ls="--", lw=1,
                     label="mpc: distance to the reference point")
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("error [cm]")
-    ax.set_title("tracking error")
-    ax.legend(fontsize=8)
-    files.append(out / f"tracking_error_{speed}.png")
-    fig.savefig(files[-1], dpi=120, bbox_inches="tight")
-    plt.close(fig)
+    files.append(_save(fig, ax, ("time [s]", "error [cm]"), "tracking error", out / f"tracking_error_{speed}.png"))
     return files
+
+
+def _save(fig, ax, labels: tuple[str, str], title: str, path: Path, legend: str = "best") -> Path:
+    import matplotlib.pyplot as plt
+
+    ax.set_xlabel(labels[0])
+    ax.set_ylabel(labels[1])
+    ax.set_title(title)
+    ax.legend(loc=legend, fontsize=8)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return path
 
 
 def main(argv: list[str] | None = None) -> int:

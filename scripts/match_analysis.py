@@ -13,10 +13,11 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
 - team of a robot: its model name without the trailing digits (nubot3 -> nubot);
 - running time: the time during which the last ``GameState`` says ``running``
   (before the first one: not running); all of the recording if no ``GameState``;
-- goal: every ``GoalEvent``, credited to the team that attacks that side at that time
-  (``GameState.attack``, else the default attack); an own goal when the last touch was by
-  the other team. The score is counted from these and compared with the last
-  ``GameState.score``;
+- goal: every ``GoalEvent`` during running time, credited to the team that attacks that side
+  at that time (``GameState.attack``, else the default attack); an own goal when the last
+  touch was by the other team. The score is counted from these and compared with the last
+  ``GameState.score``; a ball pushed into a goal while play is stopped is listed apart
+  (``goals_outside_play``), as the referee does not count it;
 - touch: a ``BallTouch`` or a ``KickEvent`` (a kicker touched the ball);
 - possession: the share of running time during which the last robot to touch the ball
   belongs to each team ("nobody" before the first touch);
@@ -63,8 +64,9 @@ DEFINITIONS = {
     "team": "a robot's team is its model name without the trailing digits",
     "running_time": "time during which the last GameState says running (none before the first GameState); "
                     "the whole recording when no GameState was recorded",
-    "goal": "each /sim_visual/goal, credited to the team attacking that side (GameState.attack, else --attack); "
-            "own goal when the last touch was by the other team; score_from_referee is the last GameState.score",
+    "goal": "each /sim_visual/goal during running time, credited to the team attacking that side (GameState.attack, "
+            "else --attack); own goal when the last touch was by the other team; score_from_referee is the last "
+            "GameState.score; goals_outside_play: goal events while play was stopped (not counted)",
     "touch": "a BallTouch or a KickEvent (the kicker touched the ball)",
     "possession": "share of running time during which the last robot to touch the ball belongs to each team",
     "kick_in_play": "a kick during running time; kicks outside it are only counted (kicks_outside_play)",
@@ -260,6 +262,7 @@ class MatchSummary:
     field: FieldSize
     teleport_step: float
     warnings: list[str]
+    goals_outside_play: list[CreditedGoal] = field(default_factory=list)  # pushed in while play was stopped
     collisions: list[Collision] = field(default_factory=list)
     ball_reaches: list[BallReach] = field(default_factory=list)
     ball_reaches_dropped: int = 0  # free-ball episodes cut by the end of their running interval
@@ -339,6 +342,8 @@ class MatchSummary:
                        "own_goal": g.own_goal, "half": g.half,
                        "game_time": None if g.game_time is None else r3(g.game_time),
                        "ball": [r3(g.goal.ball_xy[0]), r3(g.goal.ball_xy[1])]} for g in self.goals],
+            "goals_outside_play": [{"t": r3(g.goal.t), "side": g.goal.side, "last_touch": g.goal.last_touch}
+                                   for g in self.goals_outside_play],
             "possession": {k: {"share": round(share[k], 4), "seconds": r3(v)}
                            for k, v in self.possession_seconds.items()},
             "passes": self.pass_counts(),
@@ -641,7 +646,10 @@ def analyse(log: MatchLog, field_size: FieldSize, default_attack: tuple[str, int
     teams = teams_of(log)
     attack = default_attack_for(teams, *default_attack)
     intervals = running_intervals(log.referee, log.start, log.end)
-    goals, warnings = credit_goals(log, attack)
+    credited, warnings = credit_goals(log, attack)
+    in_play = [any(a <= g.goal.t <= b for a, b in intervals) for g in credited]  # a goal stops play at its time
+    goals = [g for g, ok in zip(credited, in_play) if ok]
+    stopped = [g for g, ok in zip(credited, in_play) if not ok]
     score = dict.fromkeys(teams, 0)
     for g in goals:
         if g.team:
@@ -656,7 +664,7 @@ def analyse(log: MatchLog, field_size: FieldSize, default_attack: tuple[str, int
     reaches, dropped = ball_reaches(log.tracks, intervals, free_distance, reach_distance)
     return MatchSummary(
         teams=teams, start=log.start, end=log.end, running_time=sum(b - a for a, b in intervals),
-        goals=goals, score=score, referee_score=referee_score,
+        goals=goals, goals_outside_play=stopped, score=score, referee_score=referee_score,
         possession_seconds=possession(touch_sequence(log), intervals, log.end, teams),
         kicks=classify_kicks(log, intervals, attack, field_size),
         distance_run={n: distance_run(tr, teleport_step) for n, tr in sorted(log.tracks.items()) if is_robot(n)},

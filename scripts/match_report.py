@@ -199,6 +199,9 @@ def format_summary(summary: ma.MatchSummary, bag: Path, out: Path) -> str:
         clock = f", half {g.half} at {g.game_time:.1f} s game time" if g.game_time is not None else ""
         who = f"own goal by {g.goal.last_touch}" if g.own_goal else (g.goal.last_touch or "no touch")
         lines.append(f"    goal at {g.goal.t:.1f} s for {g.team or '?'} ({who}{clock})")
+    for g in summary.goals_outside_play:
+        lines.append(f"    not counted: ball in the goal at {'+x' if g.goal.side > 0 else '-x'} at {g.goal.t:.1f} s "
+                     f"while play was stopped (last touch {g.goal.last_touch or 'nobody'})")
     share = summary.possession_share()
     lines.append("  possession: " + ", ".join(f"{k} {100 * v:.1f} %" for k, v in share.items()))
     passes = summary.pass_counts()
