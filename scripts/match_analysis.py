@@ -13,7 +13,8 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
 - team of a robot: its model name without the trailing digits (nubot3 -> nubot);
 - running time: the time during which the last ``GameState`` says ``running``
   (before the first one: not running); all of the recording if no ``GameState``;
-- goal: every ``GoalEvent`` during running time, credited to the team that attacks that side
+- goal: every ``GoalEvent`` during running time (or within ``GOAL_GRACE`` after it ended: the
+  referee may have seen the goal first), credited to the team that attacks that side
   at that time (``GameState.attack``, else the default attack); an own goal when the last
   touch was by the other team. The score is counted from these and compared with the last
   ``GameState.score``; a ball pushed into a goal while play is stopped is listed apart
@@ -58,15 +59,17 @@ from pathlib import Path
 import numpy as np
 
 BALL = "football"
+GOAL_GRACE = 0.5  # a goal event this soon after play stopped still counts (the referee saw it first) [s]
 NOBODY = "nobody"
 
 DEFINITIONS = {
     "team": "a robot's team is its model name without the trailing digits",
     "running_time": "time during which the last GameState says running (none before the first GameState); "
                     "the whole recording when no GameState was recorded",
-    "goal": "each /sim_visual/goal during running time, credited to the team attacking that side (GameState.attack, "
-            "else --attack); own goal when the last touch was by the other team; score_from_referee is the last "
-            "GameState.score; goals_outside_play: goal events while play was stopped (not counted)",
+    "goal": "each /sim_visual/goal during running time (or up to 0.5 s after: the referee saw it first), "
+            "credited to the team attacking that side (GameState.attack, else --attack); own goal when the last "
+            "touch was by the other team; score_from_referee is the last GameState.score; goals_outside_play: "
+            "goal events while play was stopped (not counted)",
     "touch": "a BallTouch or a KickEvent (the kicker touched the ball)",
     "possession": "share of running time during which the last robot to touch the ball belongs to each team",
     "kick_in_play": "a kick during running time; kicks outside it are only counted (kicks_outside_play)",
@@ -647,7 +650,8 @@ def analyse(log: MatchLog, field_size: FieldSize, default_attack: tuple[str, int
     attack = default_attack_for(teams, *default_attack)
     intervals = running_intervals(log.referee, log.start, log.end)
     credited, warnings = credit_goals(log, attack)
-    in_play = [any(a <= g.goal.t <= b for a, b in intervals) for g in credited]  # a goal stops play at its time
+    # A goal stops play: the referee may see it (by geometry) a moment before the simulator's event.
+    in_play = [any(a <= g.goal.t <= b + GOAL_GRACE for a, b in intervals) for g in credited]
     goals = [g for g, ok in zip(credited, in_play) if ok]
     stopped = [g for g, ok in zip(credited, in_play) if not ok]
     score = dict.fromkeys(teams, 0)

@@ -133,11 +133,13 @@ def test_goals_are_credited_to_the_attacking_team_and_own_goals_marked():
 
 
 def test_a_goal_while_play_is_stopped_is_listed_apart_and_not_counted():
-    log = ma.MatchLog(goals=[ma.Goal(5.0, -1, (-9.1, 0.0), "nubot4"), ma.Goal(12.0, 1, (9.1, 0.0), "nubot2")],
-                      referee=[state(0.0, True), state(4.0, False), state(8.0, True, score=(1, 0))],
+    log = ma.MatchLog(goals=[ma.Goal(5.0, -1, (-9.1, 0.0), "nubot4"), ma.Goal(12.0, 1, (9.1, 0.0), "nubot2"),
+                             ma.Goal(15.1, 1, (9.1, 0.0), "nubot3")],
+                      referee=[state(0.0, True), state(4.0, False), state(8.0, True, score=(1, 0)),
+                               state(15.0, False, score=(2, 0))],  # the referee saw the last goal 0.1 s first
                       start=0.0, end=20.0)
     summary = ma.analyse(log, FIELD)
-    assert summary.score == {"nubot": 1, "rival": 0} and summary.score_agrees
+    assert summary.score == {"nubot": 2, "rival": 0} and summary.score_agrees
     assert [g.goal.t for g in summary.goals_outside_play] == [5.0]
     assert summary.to_json()["goals_outside_play"] == [{"t": 5.0, "side": -1, "last_touch": "nubot4"}]
 
