@@ -110,6 +110,17 @@ def test_stop_ends_the_process_and_its_group(launched):
         os.killpg(child.process.pid, 0)
 
 
+def test_stop_ends_a_child_even_when_this_process_ignores_sigint(launched):
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)  # as in a background job of a shell script
+    try:
+        child = launched(["sleep", "30"])
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert wait_until(lambda: Path(f"/proc/{child.process.pid}/comm").read_text().strip() == "sleep")
+    child.stop(timeout=5.0)
+    assert child.process.returncode == -signal.SIGINT, "the child hears SIGINT again"
+
+
 def test_stop_kills_grandchildren_left_in_the_group(launched):
     # A non-interactive shell starts background jobs with SIGINT ignored, so only the SIGKILL sweep ends them.
     child = launched(["sh", "-c", "sleep 30 & echo started $!; wait"])

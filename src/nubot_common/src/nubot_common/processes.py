@@ -34,6 +34,10 @@ def free_port() -> int:
             return port
 
 
+def _default_sigint() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 class Launched:
     """A child process in its own session; ``stop`` ends the whole group (SIGINT, then SIGKILL)."""
 
@@ -41,8 +45,11 @@ class Launched:
         self.args = list(args)
         self.log_path = log_path
         self._log: IO[bytes] = open(log_path, "wb")  # noqa: SIM115 - closed in stop()
+        # SIGINT back to its default: started from a background job (`make match &`, nohup) the child would
+        # inherit it ignored, and stop() could only kill it (rosbag would leave its bag unclosed).
         self.process = subprocess.Popen(self.args, env=env, stdout=self._log, stderr=subprocess.STDOUT,
-                                        stdin=subprocess.DEVNULL, start_new_session=True)
+                                        stdin=subprocess.DEVNULL, start_new_session=True,
+                                        preexec_fn=_default_sigint)
 
     def alive(self) -> bool:
         return self.process.poll() is None
