@@ -96,11 +96,16 @@ def test_launched_runs_in_its_own_process_group(launched):
     child.stop()
 
 
+def running_program(child: Launched) -> str:
+    """The program the child runs now (its command name once it has exec'd)."""
+    return Path(f"/proc/{child.process.pid}/comm").read_text().strip()
+
+
 def test_stop_ends_the_process_and_its_group(launched):
     child = launched(["sleep", "30"])
     assert child.alive()
     # A SIGINT that lands between fork and exec is lost (the forked child still has Python's handler).
-    assert wait_until(lambda: Path(f"/proc/{child.process.pid}/comm").read_text().strip() == "sleep")
+    assert wait_until(lambda: running_program(child) == "sleep")
     started = time.monotonic()
     child.stop(timeout=5.0)
     assert time.monotonic() - started < 5.0, "sleep should end on SIGINT, not need the SIGKILL fallback"
@@ -116,7 +121,7 @@ def test_stop_ends_a_child_even_when_this_process_ignores_sigint(launched):
         child = launched(["sleep", "30"])
     finally:
         signal.signal(signal.SIGINT, previous)
-    assert wait_until(lambda: Path(f"/proc/{child.process.pid}/comm").read_text().strip() == "sleep")
+    assert wait_until(lambda: running_program(child) == "sleep")
     child.stop(timeout=5.0)
     assert child.process.returncode == -signal.SIGINT, "the child hears SIGINT again"
 
@@ -192,9 +197,7 @@ def test_stop_lets_group_members_finish_after_the_leader_exits(tmp_path):
     wrapper = (f"import subprocess, sys\nchild = subprocess.Popen([sys.executable, '-c', {member!r}])\n"
                f"try:\n    child.wait()\nexcept KeyboardInterrupt:\n    sys.exit(1)\n")
     child = Launched([sys.executable, "-c", wrapper], dict(os.environ), tmp_path / "log.txt")
-    deadline = time.monotonic() + 10
-    while "ready" not in child.log_text() and time.monotonic() < deadline:
-        time.sleep(0.05)
+    wait_until(lambda: "ready" in child.log_text(), timeout=10.0)
     child.stop(timeout=5)
     assert done.read_text() == "ok", "the member was killed before it finished"
 
@@ -206,9 +209,7 @@ def test_stop_also_ends_descendants_that_left_the_group(tmp_path):
     launcher = (f"import signal, subprocess, sys, time\nsignal.signal(signal.SIGINT, signal.SIG_IGN)\n"
                 f"subprocess.Popen([sys.executable, '-c', {escapee!r}])\nwhile True:\n    time.sleep(0.05)\n")
     child = Launched([sys.executable, "-c", launcher], dict(os.environ), tmp_path / "log.txt")
-    deadline = time.monotonic() + 10
-    while "ready" not in child.log_text() and time.monotonic() < deadline:
-        time.sleep(0.05)
+    wait_until(lambda: "ready" in child.log_text(), timeout=10.0)
     escaped = processes._descendants(child.process.pid)
     assert escaped, "the launcher has a child"
     child.stop(timeout=1)
