@@ -3,6 +3,7 @@ SHELL := /bin/bash
 ROS := source devel/setup.bash &&
 HALF_SECONDS ?= 90
 TRACKER ?= mpc
+FIELD ?= 18x12
 DEMO_SECONDS ?= 60
 
 .PHONY: setup match demo test unit integration bench lint clean
@@ -11,12 +12,12 @@ setup:
 	@bash scripts/setup.sh
 
 match: setup
-	@$(ROS) python scripts/run_match.py --half-seconds $(HALF_SECONDS) --tracker $(TRACKER)
+	@$(ROS) python scripts/run_match.py --half-seconds $(HALF_SECONDS) --tracker $(TRACKER) --field $(FIELD)
 
 demo: setup
 	@$(ROS) python scripts/run_demo.py --sim-seconds $(DEMO_SECONDS)
 
-test: setup
+test: lint
 	@$(ROS) python -m pytest
 
 unit: setup
@@ -32,6 +33,7 @@ bench: setup
 
 lint: setup
 	@.venv/bin/ruff check src scripts
+	@mypy --python-executable .venv/bin/python
 
 clean:
 	rm -rf build devel .catkin_make.log

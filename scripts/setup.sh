@@ -36,6 +36,11 @@ else
   log ".venv up to date"
 fi
 
+# The packages' pure modules, importable from the .venv without sourcing devel/setup.bash (the match
+# report works from a bag alone); a sourced workspace puts devel first, with the generated messages.
+site="$(.venv/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
+ls -d "$root"/src/*/src > "$site/nubot_ws.pth"
+
 log "catkin_make"
 if ! catkin_make -DPYTHON_EXECUTABLE="$PWD/.venv/bin/python" -DCMAKE_BUILD_TYPE=Release > .catkin_make.log 2>&1; then
   tail -n 40 .catkin_make.log

@@ -4,7 +4,7 @@ import os
 
 import pytest
 
-from nubot_common.processes import RosMaster
+from nubot_tools.processes import RosMaster
 
 
 @pytest.fixture(scope="session")

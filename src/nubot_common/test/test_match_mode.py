@@ -120,3 +120,31 @@ def test_is_set_play_covers_the_restarts_and_dropball_only():
     assert set_plays == {m for m in MatchMode if m.name.startswith(("OUR_", "OPP_"))} | {MatchMode.DROPBALL}
     for mode in (MatchMode.STOPROBOT, MatchMode.STARTROBOT, MatchMode.PARKINGROBOT, MatchMode.TEST):
         assert not mode.is_set_play
+
+
+def test_ours_and_theirs_split_the_set_pieces_and_mirror_into_each_other():
+    from nubot_common.match_mode import OUR_SET_PLAYS, THEIR_SET_PLAYS
+
+    assert len(OUR_SET_PLAYS) == len(THEIR_SET_PLAYS) == 6
+    assert {m.mirrored() for m in OUR_SET_PLAYS} == THEIR_SET_PLAYS
+    for mode in MatchMode:
+        assert not (mode.is_ours and mode.is_theirs)
+    for neither in (MatchMode.STOPROBOT, MatchMode.STARTROBOT, MatchMode.DROPBALL, MatchMode.PARKINGROBOT,
+                    MatchMode.TEST):
+        assert not neither.is_ours and not neither.is_theirs
+
+
+@pytest.mark.parametrize(("mode", "kind"), [
+    ("OUR_KICKOFF", "kickoff"), ("OPP_THROWIN", "throw-in"), ("OUR_PENALTY", "penalty"),
+    ("OPP_GOALKICK", "goal kick"), ("OUR_CORNERKICK", "corner kick"), ("OPP_FREEKICK", "free kick"),
+    ("DROPBALL", "dropped ball")])
+def test_each_set_piece_names_its_restart_for_either_team(mode, kind):
+    restart = MatchMode[mode].restart
+    assert restart is not None and restart.value == kind
+    assert MatchMode[mode].mirrored().restart is restart
+    assert restart.ours().restart is restart and (restart.ours().is_ours or restart.ours() is MatchMode.DROPBALL)
+
+
+def test_stop_start_park_and_test_are_no_restart():
+    for mode in (MatchMode.STOPROBOT, MatchMode.STARTROBOT, MatchMode.PARKINGROBOT, MatchMode.TEST):
+        assert mode.restart is None

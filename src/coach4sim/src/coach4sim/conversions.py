@@ -1,11 +1,12 @@
 """Conversions between ROS messages and the coach's core types (the only place that knows both).
 
 Requires: generated ``nubot_common`` messages, ``genpy`` (no rospy).
-Provides: ``coach_info_msg`` (CoachInfo for one team), ``game_state_msg`` (GameState),
+Provides: ``game_state_msg`` (GameState),
 ``score_view`` (GameState -> ``console.ScoreView``), ``world_from_model_states``
 (ModelStates -> ball centre and robot positions, world frame [m]), ``ball_placement``
 (a ModelState putting the ball at rest on the carpet) and ``watch_view``
-(WorldModelInfo + GameState -> ``console.WatchView``).
+(WorldModelInfo + GameState -> ``console.WatchView``). CoachInfo and WorldModelInfo are
+``nubot_common.conversions``'.
 """
 
 from __future__ import annotations
@@ -14,17 +15,15 @@ import genpy
 
 from coach4sim.console import ScoreView, WatchView
 from coach4sim.game import GameStateData
-from nubot_common.msg import CoachInfo, GameState, ModelState, ModelStates, WorldModelInfo
+from nubot_common import NubotCommonError
+from nubot_common.conversions import world_state
+from nubot_common.msg import GameState, ModelState, ModelStates, WorldModelInfo
+from nubot_common.naming import parse_robot_name
+from nubot_common.world_state import BallSource
 
 
 def stamp(t: float) -> genpy.Time:
     return genpy.Time.from_sec(max(t, 0.0))
-
-
-def coach_info_msg(mode: int, previous: int, t: float) -> CoachInfo:
-    msg = CoachInfo(MatchMode=int(mode), MatchType=int(previous))
-    msg.header.stamp = stamp(t)
-    return msg
 
 
 def game_state_msg(state: GameStateData, t: float) -> GameState:
@@ -62,33 +61,20 @@ def ball_placement(ball_name: str, x: float, y: float, radius: float) -> ModelSt
     return state
 
 
-def _agent_id(robot: str) -> int:
-    digits = robot[len(robot.rstrip("0123456789")):]
-    return int(digits) if digits else 0
-
-
 def watch_view(robot: str, wm: WorldModelInfo, state: GameState | None) -> WatchView:
     """What ``coach --watch`` shows of ``robot``'s world model (team frame) and the referee's state."""
-    me = _agent_id(robot)
-    pose = None
-    teammates = []
-    for index, info in enumerate(wm.robotinfo):
-        agent = info.AgentID or index + 1
-        if agent == me:
-            if info.isvalid:
-                pose = (info.pos.x, info.pos.y, info.heading.theta)
-        elif info.isvalid:
-            teammates.append((agent, info.pos.x, info.pos.y))
-    ball, source = None, ""
-    own = wm.ballinfo[me - 1] if 0 < me <= len(wm.ballinfo) else None
-    if own is not None and own.pos_known:
-        ball, source = (own.pos.x, own.pos.y), "own"
-    else:
-        seen = next((b for b in wm.ballinfo if b.pos_known), None)
-        if seen is not None:
-            ball, source = (seen.pos.x, seen.pos.y), "team"
+    try:
+        world = world_state(wm, parse_robot_name(robot).agent_id)
+    except NubotCommonError:
+        return WatchView(robot=robot, stamp=wm.header.stamp.to_sec(),
+                         score=score_view(state) if state is not None else None)
+    me = world.me
+    ball = world.ball
+    source = {BallSource.OWN: "own", BallSource.TEAMMATE: "team"}.get(ball.source, "")
     return WatchView(
-        robot=robot, stamp=wm.header.stamp.to_sec(), pose=pose, ball=ball, ball_source=source,
-        teammates=tuple(teammates), opponents=tuple((p.x, p.y) for p in wm.oppinfo.pos),
-        mode=int(wm.coachinfo.MatchMode), previous=int(wm.coachinfo.MatchType),
+        robot=robot, stamp=world.stamp, pose=(me.pose.x, me.pose.y, me.pose.theta) if me.valid and me.pose else None,
+        ball=ball.position if ball.known else None, ball_source=source if ball.known else "",
+        teammates=tuple((r.agent_id, r.pose.x, r.pose.y) for r in world.teammates if r.valid and r.pose),
+        opponents=tuple((o.x, o.y) for o in world.opponents),
+        mode=int(world.game.mode), previous=int(world.game.previous),
         score=score_view(state) if state is not None else None)

@@ -19,6 +19,7 @@ from dataclasses import dataclass, replace
 from coach4sim import CoachError
 from coach4sim.params import TeamSpec, validate_teams
 from nubot_common.match_mode import MatchMode, parse_match_mode
+from nubot_common.naming import is_robot_name, team_of
 
 HALF_NAMES = {1: "first half", 2: "second half"}
 
@@ -59,11 +60,8 @@ class GameStateData:
 
 def team_of_robot(teams: Sequence[TeamSpec], robot: str) -> str | None:
     """The prefix of the team ``robot`` (e.g. ``rival3``) belongs to, or None."""
-    for team in teams:
-        rest = robot[len(team.prefix):]
-        if robot.startswith(team.prefix) and rest.isdigit():
-            return team.prefix
-    return None
+    team = team_of(robot) if is_robot_name(robot) else None
+    return team if team in {t.prefix for t in teams} else None
 
 
 class GameController:

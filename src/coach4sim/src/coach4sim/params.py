@@ -1,22 +1,23 @@
 """Typed configuration of the referee (read once from ``config/referee.yaml`` and the ``~`` parameters).
 
 Provides frozen, validated dataclasses, all values SI (m, s): ``TeamSpec`` (a team's
-robot-name prefix and the goal it attacks), ``RefereeParams`` (the rules' numbers,
-used by ``referee.AutomaticReferee``) and ``RefereeNodeParams`` (those plus what the
-referee node needs: teams, auto mode, publishing periods, the simulator's names).
+robot-name prefix and the goal it attacks), ``RefereeParams`` (the rules' numbers and the
+match's ``WorldDescription``, used by ``referee.AutomaticReferee``) and ``RefereeNodeParams``
+(those plus what the referee node needs: teams, auto mode, publishing periods, the
+simulator's namespace). The node takes the world from /world, as every node of a match.
 """
 
 from __future__ import annotations
 
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from dataclasses import field as dc_field
 
+from nubot_common import NubotCommonError
 from nubot_common.field import FieldGeometry
+from nubot_common.naming import check_team_prefix
 from nubot_common.params import require_non_negative, require_positive
-
-_PREFIX = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+from nubot_common.world_description import WorldDescription
 
 
 @dataclass(frozen=True)
@@ -27,8 +28,10 @@ class TeamSpec:
     attack: int = 1
 
     def __post_init__(self) -> None:
-        if not _PREFIX.fullmatch(self.prefix) or self.prefix[-1].isdigit():
-            raise ValueError(f"team prefix must be a name not ending in a digit (e.g. nubot), got {self.prefix!r}")
+        try:
+            check_team_prefix(self.prefix)
+        except NubotCommonError as exc:
+            raise ValueError(str(exc)) from None
         if self.attack not in (1, -1):
             raise ValueError(f"team {self.prefix!r}: attack must be 1 or -1, got {self.attack}")
 
@@ -51,8 +54,7 @@ def validate_teams(teams: Sequence[TeamSpec]) -> None:
 class RefereeParams:
     """The numbers of the rules the automatic referee applies (times in sim seconds)."""
 
-    field: FieldGeometry = dc_field(default_factory=FieldGeometry)
-    ball_radius: float = 0.11  # [m]; "wholly over a line" means the centre is this far beyond it
+    world: WorldDescription = dc_field(default_factory=WorldDescription)  # the field, the ball
     setup_time: float = 4.0  # a restart command, then STARTROBOT this much later [s]
     restart_timeout: float = 12.0  # after STARTROBOT the restart team must play the ball within this [s]
     in_play_distance: float = 0.5  # the ball moved this far from where it was placed: the restart is taken [m]
@@ -69,7 +71,7 @@ class RefereeParams:
     restart_margin: float = 1.0  # throw-in x and dropped balls stay this far inside the lines [m]
 
     def __post_init__(self) -> None:
-        require_positive(self, "ball_radius", "setup_time", "restart_timeout", "in_play_distance", "stuck_time",
+        require_positive(self, "setup_time", "restart_timeout", "in_play_distance", "stuck_time",
                   "stuck_distance", "stuck_radius", "half_duration")
         require_non_negative(self, "half_time_break", "throw_in_inset", "corner_inset", "goal_kick_distance",
                       "restart_margin")
@@ -85,6 +87,15 @@ class RefereeParams:
         if f.goal_area_length + self.goal_kick_distance >= f.half_length:
             raise ValueError(f"goal_kick_distance {self.goal_kick_distance} m puts the goal kick past the halfway line")
 
+    @property
+    def field(self) -> FieldGeometry:
+        return self.world.field
+
+    @property
+    def ball_radius(self) -> float:
+        """[m]; "wholly over a line" means the ball's centre is this far beyond it."""
+        return self.world.ball.radius
+
 
 @dataclass(frozen=True)
 class RefereeNodeParams(RefereeParams):
@@ -94,14 +105,11 @@ class RefereeNodeParams(RefereeParams):
     auto: bool = True  # apply the rules to the simulated world; false: only manual commands
     republish_period: float = 0.03  # CoachInfo to every team this often [s, wall time]
     state_period: float = 1.0  # /referee/state at least this often [s, wall time]
-    ball_name: str = "football"  # the ball's model name in the simulator
     sim_namespace: str = "/sim_visual"  # where the simulator's topics and services live
 
     def __post_init__(self) -> None:
         super().__post_init__()
         validate_teams(self.teams)
         require_positive(self, "republish_period", "state_period")
-        if not self.ball_name:
-            raise ValueError("ball_name must not be empty")
         if not self.sim_namespace.startswith("/"):
             raise ValueError(f"sim_namespace must be absolute (start with /), got {self.sim_namespace!r}")

@@ -331,14 +331,6 @@ class AutomaticReferee:
         return self.attack_sides[team] if team is not None else None
 
 
-_RESTART_NAMES = {
-    MatchMode.OUR_KICKOFF: "kickoff", MatchMode.OUR_THROWIN: "throw-in", MatchMode.OUR_PENALTY: "penalty",
-    MatchMode.OUR_GOALKICK: "goal kick", MatchMode.OUR_CORNERKICK: "corner kick",
-    MatchMode.OUR_FREEKICK: "free kick", MatchMode.DROPBALL: "dropped ball",
-}
-
-
 def _restart_name(mode: MatchMode) -> str:
     """The restart in words, e.g. ``OUR_THROWIN`` -> ``throw-in`` (OPP_ names the same restart)."""
-    our = mode if mode.value % 2 or not mode.is_set_play or mode == MatchMode.DROPBALL else mode.mirrored()
-    return _RESTART_NAMES.get(our, mode.name)
+    return mode.restart.value if mode.restart is not None else mode.name

@@ -122,7 +122,7 @@ def test_coach_watch_prints_a_robots_world_model_and_the_score(match_world, ros_
 
     wm = WorldModelInfo(coachinfo=CoachInfo(MatchMode=15, MatchType=1))
     wm.robotinfo = [RobotInfo(AgentID=1, isvalid=True, pos=Point2d(-2.0, 0.0))]
-    wm.ballinfo = [BallInfo(pos=Point2d(1.0, 2.0), pos_known=True)]
+    wm.ballinfo = [BallInfo(pos=Point2d(1.0, 2.0), pos_known=True, ballinfostate=1)]  # seen by its own sensors
     pub = rospy.Publisher("/nubot1/worldmodel/worldmodelinfo", WorldModelInfo, queue_size=1)
     done = threading.Event()
 

@@ -42,7 +42,7 @@ def test_console_and_watch_modes():
     (["14"], "unknown MatchMode 14"),
     ([], "give exactly one of COMMAND, --console or --watch ROBOT$"),
     (["1", "--console"], r"\(got COMMAND and --console\)"),
-    (["1", "--team", "nubot1"], "--team: team prefix must be a name not ending in a digit"),
+    (["1", "--team", "nubot1"], "--team: a team prefix is letters and underscores"),
     (["1", "--duration", "0"], "--duration and --period must be positive"),
     (["1", "--bogus"], "unrecognized arguments: --bogus"),
 ])

@@ -7,7 +7,6 @@ from geometry_msgs.msg import Pose
 
 from coach4sim.conversions import (
     ball_placement,
-    coach_info_msg,
     game_state_msg,
     score_view,
     watch_view,
@@ -15,6 +14,7 @@ from coach4sim.conversions import (
 )
 from coach4sim.game import GameController
 from coach4sim.params import DEFAULT_TEAMS
+from nubot_common.conversions import coach_info_msg
 from nubot_common.match_mode import MatchMode
 from nubot_common.msg import BallInfo, CoachInfo, GameState, ModelStates, Point2d, RobotInfo, WorldModelInfo
 
@@ -72,13 +72,18 @@ def test_watch_view_from_a_world_model():
     me, mate, gone = RobotInfo(AgentID=2, isvalid=True), RobotInfo(AgentID=1, isvalid=True), RobotInfo(AgentID=3)
     me.pos, me.heading.theta, mate.pos = Point2d(1.0, -1.0), 0.5, Point2d(-3.0, 2.0)
     wm.robotinfo = [mate, me, gone]
-    wm.ballinfo = [BallInfo(pos=Point2d(4.0, 0.0), pos_known=True), BallInfo(), BallInfo()]
+    # nubot2's world model fused the ball nubot1 sees (ballinfostate 2: from a teammate).
+    wm.ballinfo = [BallInfo(pos=Point2d(4.0, 0.0), pos_known=True, ballinfostate=1),
+                   BallInfo(pos=Point2d(4.0, 0.0), pos_known=True, ballinfostate=2), BallInfo()]
     wm.oppinfo.pos = [Point2d(5.0, 5.0)]
+    wm.obstacleinfo.pos = [Point2d(5.0, 5.0)]
     wm.coachinfo = CoachInfo(MatchMode=15, MatchType=3)
     view = watch_view("nubot2", wm, None)
     assert view.pose == pytest.approx((1.0, -1.0, 0.5))
     assert view.teammates == ((1, -3.0, 2.0),), "invalid teammates are left out"
     assert (view.ball, view.ball_source) == ((4.0, 0.0), "team"), "nubot2 does not see it; nubot1 does"
     assert (view.opponents, view.mode, view.previous, view.stamp, view.score) == (((5.0, 5.0),), 15, 3, 7.0, None)
-    wm.ballinfo[1] = BallInfo(pos=Point2d(2.0, 1.0), pos_known=True)
+    wm.ballinfo[1] = BallInfo(pos=Point2d(2.0, 1.0), pos_known=True, ballinfostate=1)
     assert watch_view("nubot2", wm, GameState(teams=["nubot"], score=[1])).ball_source == "own"
+    wm.ballinfo[1] = BallInfo(pos=Point2d(2.0, 1.0), pos_known=False)
+    assert watch_view("nubot2", wm, None).ball is None, "the world model lost it: the watch shows no ball"

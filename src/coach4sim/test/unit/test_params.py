@@ -15,7 +15,7 @@ def test_shipped_config_has_the_briefed_numbers(config_dir):
     assert params.teams == (TeamSpec("nubot", 1), TeamSpec("rival", -1)) == DEFAULT_TEAMS
     assert (params.setup_time, params.restart_timeout, params.stuck_time, params.stuck_distance) == (4, 12, 5, 0.3)
     assert (params.half_duration, params.halves, params.republish_period, params.auto) == (300, 2, 0.03, True)
-    assert params.field == FieldGeometry(), "the field follows the simulator's unless set"
+    assert params.field == FieldGeometry(), "the field of /world (here the default world)"
 
 
 def test_launch_file_loads_the_config_and_sets_the_briefed_arguments(config_dir):
@@ -34,7 +34,7 @@ def test_teams_come_from_a_list_of_mappings():
 
 @pytest.mark.parametrize(("data", "message"), [
     ({"teams": [{"prefix": "nubot", "attack": 1}, {"prefix": "rival", "attack": 1}]}, "opposite goals"),
-    ({"teams": [{"prefix": "nubot2", "attack": 1}]}, "not ending in a digit"),
+    ({"teams": [{"prefix": "nubot2", "attack": 1}]}, "a team prefix is letters and underscores"),
     ({"teams": [{"prefix": "nubot", "attack": 0}]}, "attack must be 1 or -1, got 0"),
     ({"setup_time": 0.0}, "setup_time must be positive"),
     ({"halves": 0}, "halves must be at least 1"),

@@ -288,3 +288,24 @@ def test_manual_startrobot_during_setup_starts_play_at_once(match):
     match.referee.manual_command("nubot", 15, match.time + 1.0)
     assert match.game.running and match.referee.restart_pending
     assert match.game.status("nubot").previous.name == "OUR_KICKOFF"
+
+
+def test_on_the_22_by_14_field_the_lines_are_its_lines(make_match):
+    """A ball at y = 6.5 is out on the chapter's 18 x 12 field, in play on the current 22 x 14 one."""
+    from nubot_common.world_description import load_world
+
+    big = make_match(world=load_world("22x14"))
+    big.kickoff_and_play()
+    big.ball = (9.5, 6.5, 0.11)
+    assert big.run(1.0) == [], "inside the 22 x 14 lines"
+    big.ball = (0.0, 7.3, 0.11)
+    throw_in = big.step(0.25, last_touch="rival2")
+    assert "throw-in for nubot" in throw_in.event and throw_in.ball[1] == pytest.approx(7.0 - 0.1)
+    big.kickoff_and_play()
+    big.ball = (11.3, 3.0, 0.11)
+    assert "goal kick" in big.step(0.25, last_touch="nubot2").event, "the goal line is at x = 11"
+
+    small = make_match()
+    small.kickoff_and_play()
+    small.ball = (0.0, 6.5, 0.11)
+    assert "throw-in" in small.step(0.25, last_touch="rival2").event

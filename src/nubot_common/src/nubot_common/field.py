@@ -1,16 +1,32 @@
 """Geometry of an MSL field, in the world frame (origin at the centre spot, x along the length, metres).
 
 Provides: ``FieldGeometry`` (frozen, validated), with the 2015 18 x 12 m field of the
-chapter as default and ``FieldGeometry.msl_current()`` for the 22 x 14 m field;
-goal-post positions, inside/outside tests and the field's white line segments.
-Parameters [m]: length, width, goal_width (inner, between posts), goal_height
-(under the bar), goal_depth, penalty/goal area sizes, centre circle radius,
-penalty mark distance, line width, border (the run-off area outside the lines).
+chapter as default and ``FieldGeometry.msl_current()`` for the 22 x 14 m field of the current
+rules; goal-post positions, inside/outside tests and every white marking: ``line_segments``
+(touch, goal and halfway lines, penalty and goal areas), ``arcs`` (centre circle, corner arcs)
+and ``spots`` (centre spot, penalty marks).
+Parameters [m] (letters of the MSL rulebook's field drawing): length A, width B, goal_width
+(inner, between posts), goal_height (under the bar), goal_depth, penalty area (length E along x,
+width C), goal area (F, D), centre_circle_radius (H / 2), corner_arc_radius G,
+penalty_mark_distance I (from the goal line), spot_diameter J, line_width K, border L (the
+run-off area outside the lines). The field file of a match is ``world_description``'s YAML.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Arc:
+    """A white arc: centre (x, y) [m], radius [m], from ``start`` to ``end`` counter-clockwise [rad]."""
+
+    x: float
+    y: float
+    radius: float
+    start: float
+    end: float
 
 
 @dataclass(frozen=True)
@@ -26,14 +42,17 @@ class FieldGeometry:
     goal_area_length: float = 0.75
     goal_area_width: float = 3.5
     center_circle_radius: float = 2.0
+    corner_arc_radius: float = 0.75
     penalty_mark_distance: float = 3.0
+    spot_diameter: float = 0.15
     line_width: float = 0.125
     border: float = 1.0
 
     def __post_init__(self) -> None:
         for name in ("length", "width", "goal_width", "goal_height", "goal_depth", "post_radius",
                      "penalty_area_length", "penalty_area_width", "goal_area_length", "goal_area_width",
-                     "center_circle_radius", "penalty_mark_distance", "line_width", "border"):
+                     "center_circle_radius", "corner_arc_radius", "penalty_mark_distance", "spot_diameter",
+                     "line_width", "border"):
             if not getattr(self, name) > 0.0:
                 raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
         if self.goal_width >= self.width:
@@ -43,12 +62,16 @@ class FieldGeometry:
                 raise ValueError(f"the {area.replace('_', ' ')} must fit inside one half of the field")
         if self.goal_area_width > self.penalty_area_width or self.goal_area_length > self.penalty_area_length:
             raise ValueError("the goal area must lie inside the penalty area")
+        if self.center_circle_radius >= min(self.half_length, self.half_width):
+            raise ValueError("the centre circle must fit inside the field")
+        if self.penalty_mark_distance >= self.half_length:
+            raise ValueError("the penalty mark must lie in its own half")
 
     @classmethod
     def msl_current(cls) -> FieldGeometry:
         """The 22 x 14 m field of the current MSL rules."""
-        return cls(length=22.0, width=14.0, penalty_area_length=2.25, penalty_area_width=6.5,
-                   penalty_mark_distance=3.6)
+        return cls(length=22.0, width=14.0, penalty_area_length=2.25, penalty_area_width=6.9,
+                   goal_area_length=0.75, goal_area_width=3.9, penalty_mark_distance=3.6)
 
     @property
     def half_length(self) -> float:
@@ -83,3 +106,17 @@ class FieldGeometry:
                 x0, x1 = side * hl, side * (hl - depth)
                 segments += [((x0, -half), (x1, -half)), ((x0, half), (x1, half)), ((x1, -half), (x1, half))]
         return segments
+
+    def arcs(self) -> list[Arc]:
+        """The centre circle and the four corner arcs (each a quarter circle inside the field)."""
+        hl, hw, r = self.half_length, self.half_width, self.corner_arc_radius
+        arcs = [Arc(0.0, 0.0, self.center_circle_radius, -math.pi, math.pi)]
+        # Each corner's quarter circle opens towards the field: from the goal line to the touch line.
+        for cx, cy, start in ((hl, hw, math.pi), (-hl, hw, -math.pi / 2), (-hl, -hw, 0.0), (hl, -hw, math.pi / 2)):
+            arcs.append(Arc(cx, cy, r, start, start + math.pi / 2))
+        return arcs
+
+    def spots(self) -> list[tuple[float, float]]:
+        """Centres [m] of the centre spot and the two penalty marks (each ``spot_diameter`` wide)."""
+        x = self.half_length - self.penalty_mark_distance
+        return [(0.0, 0.0), (-x, 0.0), (x, 0.0)]

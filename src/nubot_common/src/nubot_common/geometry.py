@@ -38,6 +38,11 @@ class Pose2D:
     y: float = 0.0
     theta: float = 0.0
 
+    @classmethod
+    def looking_at(cls, x: float, y: float, fx: float, fy: float) -> Pose2D:
+        """The pose at (x, y) [m] facing the point (fx, fy) [m]."""
+        return cls(x, y, math.atan2(fy - y, fx - x))
+
     def to_body(self, px: float, py: float) -> tuple[float, float]:
         """Express the world point (px, py) in this pose's body frame."""
         return rotate(px - self.x, py - self.y, -self.theta)

@@ -74,7 +74,7 @@ def from_mapping(cls: type[T], data: Mapping[str, Any] | None, where: str = "") 
         raise NubotCommonError(f"{where or cls.__name__}: expected a mapping of parameters, got {data!r}")
     data = dict(data)
     hints = typing.get_type_hints(cls)
-    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}  # type: ignore[arg-type]
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
     unknown = sorted(str(key) for key in set(data) - set(fields))
     if unknown:
         raise NubotCommonError(

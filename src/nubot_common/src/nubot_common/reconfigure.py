@@ -29,7 +29,7 @@ class ReconfigureParam:
         if self.kind == "double":  # an int here would be encoded among the ints
             for attr in ("default", "minimum", "maximum"):
                 object.__setattr__(self, attr, float(getattr(self, attr)))
-        if self.kind in ("double", "int") and not self.minimum <= self.default <= self.maximum:
+        if self.kind in ("double", "int") and not float(self.minimum) <= float(self.default) <= float(self.maximum):
             raise ValueError(f"{self.name}: default {self.default} outside [{self.minimum}, {self.maximum}]")
 
 

@@ -1,10 +1,12 @@
 """Behaviours: what one robot wants this cycle, given its role (team frame, own goal at -x).
 
-Requires: ``TeamState`` and ``ControlParams``. Provides: ``Intent`` (a target pose, a speed
-limit, whether the dribbler should be on, an optional kick (strength [m/s], ShootPos),
-an optional pass plan) and one function per behaviour: ``chase_ball``, ``attack`` (with
-the ball: shoot with a ground or lob shot, pass to a teammate, or dribble on),
-``catch_pass``, ``support`` (defend, assist, midfield spots), ``mark`` and ``keep_goal``.
+Requires: ``TeamState`` (with the field) and ``ControlParams``. Provides: ``Intent`` (a target
+pose, a speed limit, whether the dribbler should be on, an optional ``KickCommand``, an optional
+pass command) and one function per behaviour: ``chase_ball``, ``search_ball`` (the ball is not
+known: go towards where it was last seen, stop short of it and turn on the spot), ``attack`` (with
+the ball: shoot with a ground or lob shot, pass to a teammate, or dribble on), ``catch_pass``,
+``support`` (defend, assist, midfield spots), ``mark`` and ``keep_goal``. No behaviour drives to a
+ball the world model does not know.
 """
 
 from __future__ import annotations
@@ -13,14 +15,14 @@ import math
 from dataclasses import dataclass
 from enum import IntEnum
 
+from nubot_common.commands import KickCommand, KickKind
 from nubot_common.geometry import Pose2D, wrap_angle
+from nubot_common.percepts import RobotReport
+from nubot_common.team_play import PassCommand, Role
 from nubot_control.params import ControlParams
 from nubot_control.role_allocation import support_positions
-from nubot_control.roles import Role
-from nubot_control.team_state import Mate, PassPlan, TeamState
+from nubot_control.team_state import TeamState
 
-GROUND = -1
-LOB = 1
 _BLOCK_RADIUS = 0.55  # an opponent this close to a kick's line blocks it [m]
 _PRESSURE_RADIUS = 1.5  # an opponent this close makes the holder look for a pass [m]
 
@@ -36,6 +38,7 @@ class Action(IntEnum):
     DEFEND = 7
     KEEP_GOAL = 8
     MARK = 9
+    SEARCH = 10
 
 
 @dataclass(frozen=True)
@@ -44,12 +47,11 @@ class Intent:
     action: Action
     speed_limit: float | None = None  # [m/s]
     dribble: bool = False
-    kick: tuple[int, int] | None = None  # (strength [m/s], ShootPos)
-    pass_plan: PassPlan | None = None
+    kick: KickCommand | None = None
+    pass_cmd: PassCommand | None = None
 
 
-def _facing(x: float, y: float, fx: float, fy: float) -> Pose2D:
-    return Pose2D(x, y, math.atan2(fy - y, fx - x))
+_facing = Pose2D.looking_at
 
 
 def line_is_clear(ax: float, ay: float, bx: float, by: float, obstacles: list[tuple[float, float]],
@@ -64,11 +66,24 @@ def line_is_clear(ax: float, ay: float, bx: float, by: float, obstacles: list[tu
     return True
 
 
+def search_ball(state: TeamState, params: ControlParams) -> Intent:
+    """The ball is not known: keep ``search_distance`` from where it was last seen, then turn on the spot."""
+    me, ball = state.me.pose, state.ball
+    dist = max(me.distance_to(ball.x, ball.y), 1e-6)
+    keep = params.play.search_distance
+    x, y = ball.x + (me.x - ball.x) / dist * keep, ball.y + (me.y - ball.y) / dist * keep
+    if dist > keep + 0.3:
+        return Intent(_facing(x, y, ball.x, ball.y), Action.SEARCH)
+    return Intent(Pose2D(x, y, wrap_angle(me.theta + params.play.search_turn)), Action.SEARCH)  # keeps turning
+
+
 def chase_ball(state: TeamState, params: ControlParams) -> Intent:
     """Go to the ball and face it, coming from the side away from the opponent goal when far."""
     me, ball = state.me.pose, state.ball
+    if not ball.known:
+        return search_ball(state, params)
     dist = me.distance_to(ball.x, ball.y)
-    goal_x = params.field.half_length
+    goal_x = state.field.half_length
     if dist > 1.2:
         ux, uy = ball.x - goal_x, ball.y
         u = max(math.hypot(ux, uy), 1e-6)
@@ -81,7 +96,7 @@ def chase_ball(state: TeamState, params: ControlParams) -> Intent:
 
 
 def _aim_at_goal(state: TeamState, params: ControlParams) -> tuple[float, float]:
-    f = params.field
+    f = state.field
     gx = f.half_length
     me = state.me.pose
     best, best_gap = (gx, 0.0), -1.0
@@ -92,21 +107,21 @@ def _aim_at_goal(state: TeamState, params: ControlParams) -> tuple[float, float]
     return best
 
 
-def _pass_target(state: TeamState, params: ControlParams) -> Mate | None:
+def _pass_target(state: TeamState, params: ControlParams) -> RobotReport | None:
     me = state.me.pose
     candidates = []
     for mate in state.mates:
-        if not mate.valid or mate.agent_id == state.goalie_id:
+        if mate.agent_id == state.goalie_id:
             continue
         d = me.distance_to(mate.pose.x, mate.pose.y)
         if 2.0 < d < 8.0 and line_is_clear(me.x, me.y, mate.pose.x, mate.pose.y, list(state.opponents)):
             candidates.append(mate)
-    return max(candidates, key=lambda m: (m.pose.x, -m.agent_id), default=None)
+    return max(candidates, key=lambda m: (m.pose.x, -m.agent_id)) if candidates else None
 
 
 def attack(state: TeamState, params: ControlParams, wants_pass: bool = False) -> Intent:
     """With the ball: shoot when in range, else pass when pressed or asked to, else dribble on."""
-    me, play, f = state.me.pose, params.play, params.field
+    me, play, f = state.me.pose, params.play, state.field
     aim = _aim_at_goal(state, params)
     to_goal = me.distance_to(*aim)
     pressed = any(math.hypot(ox - me.x, oy - me.y) < _PRESSURE_RADIUS for ox, oy in state.opponents)
@@ -114,8 +129,8 @@ def attack(state: TeamState, params: ControlParams, wants_pass: bool = False) ->
         face = _facing(me.x, me.y, *aim)
         if abs(wrap_angle(face.theta - me.theta)) < play.aim_tolerance:
             clear = line_is_clear(me.x, me.y, aim[0], aim[1], list(state.opponents))
-            kind = GROUND if clear or to_goal > play.lob_range else LOB
-            return Intent(face, Action.SHOOT, dribble=True, kick=(play.shot_speed, kind))
+            kind = KickKind.GROUND if clear or to_goal > play.lob_range else KickKind.LOB
+            return Intent(face, Action.SHOOT, dribble=True, kick=KickCommand(kind, play.shot_speed))
         return Intent(face, Action.SHOOT, speed_limit=0.3, dribble=True)
     mate = _pass_target(state, params) if (pressed or wants_pass) else None
     if mate is not None and mate.pose.x > me.x - 1.0:
@@ -125,34 +140,37 @@ def attack(state: TeamState, params: ControlParams, wants_pass: bool = False) ->
     return Intent(_facing(tx, ty, *aim), Action.DRIBBLE, speed_limit=params.motion.dribble_speed, dribble=True)
 
 
-def pass_to(state: TeamState, mate: Mate, params: ControlParams) -> Intent:
+def pass_to(state: TeamState, mate: RobotReport, params: ControlParams, static: bool = False) -> Intent:
     """Turn to ``mate`` on the spot and pass along the ground, at a speed that suits the distance."""
     me, play = state.me.pose, params.play
-    plan = PassPlan(state.me.agent_id, mate.agent_id, mate.pose.x, mate.pose.y)
+    plan = PassCommand(state.me.agent_id, mate.agent_id, (me.x, me.y), (mate.pose.x, mate.pose.y),
+                       is_dynamic_pass=not static, is_static_pass=static)
     face = _facing(me.x, me.y, mate.pose.x, mate.pose.y)
     if abs(wrap_angle(face.theta - me.theta)) < play.aim_tolerance * 1.5:
         d = me.distance_to(mate.pose.x, mate.pose.y)
         strength = int(round(max(3.0, min(8.0, play.pass_speed_per_metre * d))))
-        return Intent(face, Action.PASS, dribble=True, kick=(strength, GROUND), pass_plan=plan)
-    return Intent(face, Action.PASS, speed_limit=0.3, dribble=True, pass_plan=plan)
+        return Intent(face, Action.PASS, dribble=True, kick=KickCommand(KickKind.GROUND, strength), pass_cmd=plan)
+    return Intent(face, Action.PASS, speed_limit=0.3, dribble=True, pass_cmd=plan)
 
 
-def catch_pass(state: TeamState, plan: PassPlan, params: ControlParams) -> Intent:
+def catch_pass(state: TeamState, plan: PassCommand, params: ControlParams) -> Intent:
     """Stand at the catch point facing the ball, dribbler on."""
     ball = state.ball
-    if plan.kicked and ball.known:
+    cx, cy = plan.catch_pt
+    if plan.is_passout and ball.known:
         # Meet the rolling ball on its line, as close to the catch point as possible.
         speed = math.hypot(ball.vx, ball.vy)
         if speed > 0.5:
             ux, uy = ball.vx / speed, ball.vy / speed
-            t = max(0.0, (plan.catch_x - ball.x) * ux + (plan.catch_y - ball.y) * uy)
+            t = max(0.0, (cx - ball.x) * ux + (cy - ball.y) * uy)
             x, y = ball.x + ux * t, ball.y + uy * t
             return Intent(_facing(x, y, ball.x, ball.y), Action.CATCH, dribble=True)
-    return Intent(_facing(plan.catch_x, plan.catch_y, ball.x, ball.y), Action.CATCH, dribble=True)
+    return Intent(_facing(cx, cy, ball.x, ball.y), Action.CATCH, dribble=True)
 
 
 def support(state: TeamState, role: Role, params: ControlParams) -> Intent:
-    spots = support_positions(state.ball, params.field)
+    """Hold the role's spot; with the ball lost, the spots stay where they were for its last position."""
+    spots = support_positions(state.ball, state.field)
     x, y = spots.get(role, spots[Role.MIDFIELD])
     action = Action.DEFEND if role == Role.PASSIVE else Action.POSITION
     return Intent(_facing(x, y, state.ball.x, state.ball.y), action)
@@ -161,20 +179,23 @@ def support(state: TeamState, role: Role, params: ControlParams) -> Intent:
 def mark(state: TeamState, opponent: tuple[float, float], params: ControlParams) -> Intent:
     """Stand between an opponent and the own goal, 1 m from the opponent."""
     ox, oy = opponent
-    gx = -params.field.half_length
+    gx = -state.field.half_length
     dx, dy = gx - ox, -oy
     d = max(math.hypot(dx, dy), 1e-6)
     return Intent(_facing(ox + dx / d, oy + dy / d, state.ball.x, state.ball.y), Action.MARK)
 
 
 def keep_goal(state: TeamState, params: ControlParams) -> Intent:
-    """Guard the goal line; clear a slow ball that comes into the goal area."""
-    f, ball, me = params.field, state.ball, state.me
+    """Guard the goal line; clear a slow ball that comes into the goal area; the goal's centre when the ball is lost."""
+    f, ball, me = state.field, state.ball, state.me
     line_x = -f.half_length + 0.4
     if state.me.holding:
         face = _facing(me.pose.x, me.pose.y, 0.0, 3.0 if me.pose.y >= 0 else -3.0)
         ok = abs(wrap_angle(face.theta - me.pose.theta)) < 0.3
-        return Intent(face, Action.KEEP_GOAL, dribble=True, kick=(8, GROUND) if ok else None, speed_limit=0.5)
+        kick = KickCommand(KickKind.GROUND, 8) if ok else None
+        return Intent(face, Action.KEEP_GOAL, dribble=True, kick=kick, speed_limit=0.5)
+    if not ball.known:
+        return Intent(Pose2D(line_x, 0.0, 0.0), Action.KEEP_GOAL)
     in_area = ball.x < -f.half_length + f.penalty_area_length and abs(ball.y) < f.penalty_area_width / 2
     if in_area and math.hypot(ball.vx, ball.vy) < 1.0:
         intent = chase_ball(state, params)

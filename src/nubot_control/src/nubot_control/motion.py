@@ -22,11 +22,12 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 
 import numpy as np
 
-from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate, wrap_angle
+from nubot_common.world_description import WorldDescription
 from nubot_control.mpc import LaguerreMpc, MpcParams
 from nubot_control.params import MotionParams
 from nubot_control.path_planning import Bounds, Disc, PlannerParams, Trajectory, plan
@@ -42,7 +43,7 @@ def _segment_distance(px: float, py: float, ax: float, ay: float, bx: float, by:
     return math.hypot(ax + t * dx - px, ay + t * dy - py), t
 
 
-def sub_target(start: tuple[float, float], goal: tuple[float, float], obstacles: list[tuple[float, ...]],
+def sub_target(start: tuple[float, float], goal: tuple[float, float], obstacles: Sequence[tuple[float, ...]],
                clearance: float) -> tuple[float, float]:
     """The first point to head for on the way from ``start`` to ``goal`` around ``obstacles``.
 
@@ -76,12 +77,13 @@ def sub_target(start: tuple[float, float], goal: tuple[float, float], obstacles:
 class MotionController:
     """Turns target poses into body-frame velocity commands, one control cycle at a time."""
 
-    def __init__(self, params: MotionParams, field: FieldGeometry, dt: float = 1.0 / 33.0):
+    def __init__(self, params: MotionParams, world: WorldDescription, dt: float = 1.0 / 33.0):
         self.params = params
-        self.field = field
+        field = self.field = world.field
+        self.robot_radius = world.robot.radius  # [m]
         self.velocity = (0.0, 0.0)  # last commanded velocity, team frame [m/s]
         self.w = 0.0
-        margin = field.border - params.robot_radius
+        margin = field.border - self.robot_radius
         self.bounds = Bounds(-field.half_length - margin, field.half_length + margin,
                              -field.half_width - margin, field.half_width + margin)
         self.posts = [Disc(x, y, field.post_radius) for side in (1, -1) for x, y in field.goal_posts(side)]
@@ -97,13 +99,13 @@ class MotionController:
         self.velocity, self.w = (0.0, 0.0), 0.0
         self.trajectory, self.reference, self._given, self._waypoints = None, None, [], []
 
-    def command(self, me: Pose2D, target: Pose2D, obstacles: list[tuple[float, ...]], dt: float,
+    def command(self, me: Pose2D, target: Pose2D, obstacles: Sequence[tuple[float, ...]], dt: float,
                 speed_limit: float | None = None, holding: bool = False) -> tuple[float, float, float]:
         """One cycle's body-frame command towards ``target`` (position and heading)."""
         return self.follow(me, [(target.x, target.y)], target.theta, obstacles, dt, speed_limit, holding)
 
     def follow(self, me: Pose2D, waypoints: list[tuple[float, float]], heading: float,
-               obstacles: list[tuple[float, ...]], dt: float, speed_limit: float | None = None,
+               obstacles: Sequence[tuple[float, ...]], dt: float, speed_limit: float | None = None,
                holding: bool = False) -> tuple[float, float, float]:
         """One cycle's body-frame command along ``waypoints`` (the last is the goal), ending facing ``heading``.
 
@@ -133,17 +135,17 @@ class MotionController:
         return bx, by, self.w
 
     # --- mpc: replan, then track ------------------------------------------------------------
-    def _discs(self, me: Pose2D, obstacles: list[tuple[float, ...]]) -> list[Disc]:
+    def _discs(self, me: Pose2D, obstacles: Sequence[tuple[float, ...]]) -> list[Disc]:
         p = self.params
         discs = list(self.posts)
         for o in obstacles:
             if len(o) > 2:  # keep the centre o[2] away: a disc that gives that clearance
-                discs.append(Disc(o[0], o[1], max(0.0, o[2] - p.robot_radius - p.clearance)))
+                discs.append(Disc(o[0], o[1], max(0.0, o[2] - self.robot_radius - p.clearance)))
             else:
-                discs.append(Disc(o[0], o[1], p.robot_radius))
+                discs.append(Disc(o[0], o[1], self.robot_radius))
         return [d for d in discs if math.hypot(d.x - me.x, d.y - me.y) < p.planning_range]
 
-    def _track(self, me: Pose2D, goals: list[tuple[float, float]], obstacles: list[tuple[float, ...]],
+    def _track(self, me: Pose2D, goals: list[tuple[float, float]], obstacles: Sequence[tuple[float, ...]],
                dt: float, limit: float, accel: float) -> tuple[float, float]:
         p = self.params
         given, start, start_velocity = goals, (me.x, me.y), self.velocity
@@ -154,19 +156,21 @@ class MotionController:
                 if len(goals) == len(self._given):  # the same route: keep only the waypoints still ahead
                     goals = self._ahead(start, start_velocity, self._waypoints[:-1]) + [goals[-1]]
         self._given, self._waypoints = given, goals
-        planner = PlannerParams(robot_radius=p.robot_radius, safety_margin=p.clearance,
+        planner = PlannerParams(robot_radius=self.robot_radius, safety_margin=p.clearance,
                                 max_speed=limit * p.plan_share, max_accel=accel * p.plan_share,
                                 max_lateral_accel=p.max_lateral_accel * p.plan_share)
         self.trajectory = plan(start, goals, self._discs(me, obstacles), planner, self.bounds,
                                start_velocity=start_velocity)
-        horizon = self.mpc.params.horizon
-        times = np.arange(horizon + 1) * self.mpc.params.dt
+        mpc = self.mpc
+        assert mpc is not None  # _track runs only with the mpc tracker
+        horizon = mpc.params.horizon
+        times = np.arange(horizon + 1) * mpc.params.dt
         ref_positions, ref_velocities = self.trajectory.states_at(times)
         self.reference = ((float(ref_positions[0, 0]), float(ref_positions[0, 1])),
                           (float(ref_velocities[0, 0]), float(ref_velocities[0, 1])))
-        u = self.mpc.command(np.array([me.x, me.y]), np.array(self.velocity), ref_positions,
-                             ref_velocities[:horizon], max_speed=min(limit, self.mpc.params.max_speed),
-                             max_accel=min(accel, self.mpc.params.max_accel))
+        u = mpc.command(np.array([me.x, me.y]), np.array(self.velocity), ref_positions,
+                        ref_velocities[:horizon], max_speed=min(limit, mpc.params.max_speed),
+                        max_accel=min(accel, mpc.params.max_accel))
         return float(u[0]), float(u[1])
 
     @staticmethod
@@ -185,10 +189,10 @@ class MotionController:
         return remaining
 
     # --- baseline ----------------------------------------------------------------------------
-    def _baseline(self, me: Pose2D, goal: tuple[float, float], obstacles: list[tuple[float, ...]], dt: float,
+    def _baseline(self, me: Pose2D, goal: tuple[float, float], obstacles: Sequence[tuple[float, ...]], dt: float,
                   limit: float, accel: float) -> tuple[float, float]:
         p = self.params
-        clearance = 2.0 * p.robot_radius + p.clearance
+        clearance = 2.0 * self.robot_radius + p.clearance
         near = [o for o in obstacles if math.hypot(o[0] - me.x, o[1] - me.y) < 4.0]
         aim = sub_target((me.x, me.y), goal, near, clearance)
         dx, dy = aim[0] - me.x, aim[1] - me.y

@@ -1,6 +1,7 @@
 """Typed configuration of a robot's control (read once from ``config/nubot_control.yaml``).
 
-All values SI: metres, seconds, m/s, rad/s.
+All values SI: metres, seconds, m/s, rad/s. The field and the robot's size are not here: they come
+from the match's world description (``nubot_common.world_description``), the same for every node.
 """
 
 from __future__ import annotations
@@ -8,7 +9,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from dataclasses import field as dc_field
 
-from nubot_common.field import FieldGeometry
 from nubot_common.params import require_non_negative, require_positive
 
 TRACKERS = ("mpc", "baseline")
@@ -29,13 +29,12 @@ class MotionParams:
     planning_range: float = 8.0  # obstacles farther than this are left out of the plan [m]
     position_gain: float = 2.5  # [1/s], velocity per metre of error near the target
     heading_gain: float = 4.0  # [1/s]
-    robot_radius: float = 0.26  # [m]
     clearance: float = 0.25  # kept free between two robots' hulls [m]
 
     def __post_init__(self) -> None:
         require_positive(self, "max_speed", "max_accel", "max_lateral_accel", "max_rot_speed", "max_rot_accel",
                          "dribble_speed", "dribble_accel", "replan_tolerance", "planning_range", "position_gain",
-                         "heading_gain", "robot_radius")
+                         "heading_gain")
         require_non_negative(self, "clearance")
         if not 0.0 < self.plan_share <= 1.0:
             raise ValueError(f"plan_share must lie in (0, 1], got {self.plan_share}")
@@ -56,17 +55,19 @@ class PlayParams:
     aim_tolerance: float = 0.08  # kick when facing the aim point this well [rad]
     role_hysteresis: float = 0.6  # a challenger must reach the ball this much sooner [s]
     min_role_time: float = 1.0  # keep a role at least this long unless the holder drops out [s]
+    search_distance: float = 1.5  # with the ball lost, the active robot stops this short of where it was seen [m]
+    search_turn: float = 0.6  # ... and then turns on the spot, aiming this far ahead of its heading [rad]
     goalie_id: int = 1
     team_size: int = 5
 
     def __post_init__(self) -> None:
+        require_positive(self, "search_distance", "search_turn")
         if not 1 <= self.goalie_id <= self.team_size:
             raise ValueError(f"goalie_id must lie in 1..team_size, got {self.goalie_id}")
 
 
 @dataclass(frozen=True)
 class ControlParams:
-    field: FieldGeometry = dc_field(default_factory=FieldGeometry)
     motion: MotionParams = dc_field(default_factory=MotionParams)
     play: PlayParams = dc_field(default_factory=PlayParams)
     rate: float = 33.0  # control cycles per second [Hz] (chapter 4.4)

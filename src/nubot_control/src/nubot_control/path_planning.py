@@ -47,7 +47,7 @@ _MIN_SPEED = 1e-3  # floor of the curvature speed limit, so that a cusp does not
 
 def _require_finite(obj: object) -> None:
     """Raise ValueError naming the first float field of the dataclass ``obj`` that is NaN or infinite."""
-    for f in dataclasses.fields(obj):  # type: ignore[arg-type]
+    for f in dataclasses.fields(obj):
         value = getattr(obj, f.name)
         if isinstance(value, float) and not math.isfinite(value):
             raise ValueError(f"{f.name} must be finite, got {value}")

@@ -1,7 +1,7 @@
 """Drive one robot along given waypoints with the motion layer: the chapter's Fig. 13 experiment.
 
 Requires: ``PathTrackingParams`` (waypoints in the team frame [m], final heading [rad], the
-motion parameters, the field) and, each cycle, the time [s], the robot's pose and the
+motion parameters), the match's ``WorldDescription`` and, each cycle, the time [s], the robot's pose and the
 obstacles it sees (team frame [m]).
 Provides: ``PathTracker.step`` -> body-frame (Vx, Vy, w) and a ``TrackingSample`` (reference,
 commanded velocity, error, compute time, finished). A pose observed before the cycle's time
@@ -16,9 +16,9 @@ import math
 from dataclasses import dataclass
 from dataclasses import field as dc_field
 
-from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D
 from nubot_common.params import require_non_negative, require_positive
+from nubot_common.world_description import WorldDescription
 from nubot_control.motion import MotionController
 from nubot_control.params import MotionParams
 
@@ -32,7 +32,6 @@ class PathTrackingParams:
     stop_speed: float = 0.05  # [m/s]
     rate: float = 33.0  # control cycles [Hz]
     motion: MotionParams = dc_field(default_factory=MotionParams)
-    field: FieldGeometry = dc_field(default_factory=FieldGeometry)
 
     def __post_init__(self) -> None:
         if not self.waypoints:
@@ -56,9 +55,9 @@ class TrackingSample:
 
 
 class PathTracker:
-    def __init__(self, params: PathTrackingParams):
+    def __init__(self, params: PathTrackingParams, world: WorldDescription):
         self.params = params
-        self.motion = MotionController(params.motion, params.field, 1.0 / params.rate)
+        self.motion = MotionController(params.motion, world, 1.0 / params.rate)
         self._first: float | None = None
         self._last: float | None = None
         self.finished = False
@@ -82,6 +81,7 @@ class PathTracker:
             still = TrackingSample((me.x, me.y), (0.0, 0.0), (me.x, me.y), (0.0, 0.0), 0.0, 0.0, self.finished)
             return (0.0, 0.0, 0.0), still
         command = self.motion.follow(me, list(p.waypoints), p.heading, obstacles, dt)
+        assert self.motion.reference is not None  # set by every follow()
         (rx, ry), ref_v = self.motion.reference
         vx, vy = self.motion.velocity
         at_goal = math.hypot(rx - goal[0], ry - goal[1]) < 1e-3 or math.hypot(*ref_v) < 1e-6

@@ -8,7 +8,9 @@ the support roles by minimum total distance, ``scipy.optimize.linear_sum_assignm
 dynamic reassignment every cycle with hysteresis (the announced ACTIVE keeps its role until
 a challenger is ``role_hysteresis`` seconds faster and it has held the role
 ``min_role_time``). Robots that drop out are simply absent; ties break by AgentID, so
-teammates with the same data reach the same answer.
+teammates with the same data reach the same answer. With the ball lost, no time to reach it
+is known: the announced ACTIVE robot keeps its role (the nearest to where the ball was last seen
+takes it if none is announced), and the support spots stay those of its last position.
 """
 
 from __future__ import annotations
@@ -19,15 +21,19 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from nubot_common.field import FieldGeometry
+from nubot_common.percepts import RobotReport
+from nubot_common.team_play import Role
+from nubot_common.world_state import FusedBall
 from nubot_control.params import MotionParams, PlayParams
-from nubot_control.roles import FIELD_ROLE_PRIORITY, Role
-from nubot_control.team_state import Ball, Mate, TeamState
+from nubot_control.team_state import TeamState
 
+# The order in which field roles are filled when fewer robots are available.
+FIELD_ROLE_PRIORITY = (Role.ACTIVE, Role.PASSIVE, Role.ASSISTANT, Role.MIDFIELD)
 _TURN_TIME_PER_RAD = 0.25  # [s/rad] cost of facing the ball
 _BEHIND_PENALTY = 1.0  # [s] extra for a robot on the wrong side of the ball (between ball and opponent goal)
 
 
-def time_to_ball(mate: Mate, ball: Ball, motion: MotionParams) -> float:
+def time_to_ball(mate: RobotReport, ball: FusedBall, motion: MotionParams) -> float:
     """Estimated time [s] for ``mate`` to reach the ball, facing it."""
     distance = mate.pose.distance_to(ball.x, ball.y)
     turn = abs(mate.pose.bearing_to(ball.x, ball.y))
@@ -35,7 +41,7 @@ def time_to_ball(mate: Mate, ball: Ball, motion: MotionParams) -> float:
     return distance / motion.max_speed + turn * _TURN_TIME_PER_RAD + behind
 
 
-def support_positions(ball: Ball, field: FieldGeometry) -> dict[Role, tuple[float, float]]:
+def support_positions(ball: FusedBall, field: FieldGeometry) -> dict[Role, tuple[float, float]]:
     """Where the support roles stand, given the ball (team frame, own goal at -x)."""
     own_goal = (-field.half_length, 0.0)
     dx, dy = ball.x - own_goal[0], ball.y - own_goal[1]
@@ -55,7 +61,7 @@ class RoleAllocator:
         self.play, self.motion, self.field = play, motion, field
 
     def assign(self, state: TeamState) -> dict[int, Role]:
-        team = [m for m in state.team if m.valid]
+        team = list(state.team)
         roles: dict[int, Role] = {}
         field_players = []
         for mate in team:
@@ -77,15 +83,17 @@ class RoleAllocator:
                 roles[rest[i].agent_id] = wanted[j]
         return roles
 
-    def _pick_active(self, players: list[Mate], state: TeamState) -> Mate:
+    def _pick_active(self, players: list[RobotReport], state: TeamState) -> RobotReport:
         times = {m.agent_id: time_to_ball(m, state.ball, self.motion) for m in players}
         for m in players:
             if m.holding:
                 return m  # whoever has the ball is the attacker
         best = min(players, key=lambda m: (round(times[m.agent_id], 3), m.agent_id))
-        holder = next((m for m in players if m.role == Role.ACTIVE and m.valid), None)
+        holder = next((m for m in players if m.role == Role.ACTIVE), None)
         if holder is None or holder.agent_id == best.agent_id:
             return best
+        if not state.ball.known:
+            return holder  # no time to the ball is known: nobody takes the ball over
         if holder.role_time < self.play.min_role_time:
             return holder
         if times[best.agent_id] < times[holder.agent_id] - self.play.role_hysteresis:

@@ -17,14 +17,12 @@ from dataclasses import dataclass
 
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D
-from nubot_common.match_mode import MatchMode
+from nubot_common.match_mode import OUR_SET_PLAYS, THEIR_SET_PLAYS, MatchMode
+from nubot_common.percepts import RobotReport
+from nubot_common.team_play import Role
+from nubot_common.world_state import FusedBall
 from nubot_control.params import PlayParams
-from nubot_control.roles import Role
-from nubot_control.team_state import Ball, Mate
 
-OURS = {MatchMode.OUR_KICKOFF, MatchMode.OUR_THROWIN, MatchMode.OUR_GOALKICK, MatchMode.OUR_CORNERKICK,
-        MatchMode.OUR_FREEKICK, MatchMode.OUR_PENALTY}
-THEIRS = {m.mirrored() for m in OURS}
 _MARGIN = 0.3  # kept beyond every rule distance [m]
 _TAKER_GAP = 0.55  # the taker waits this far from the ball centre, facing it [m]
 
@@ -36,11 +34,10 @@ class Formation:
     receiver: int = 0  # AgentID that receives it (staticcatchNum), 0 if none
 
 
-def _facing(x: float, y: float, fx: float, fy: float) -> Pose2D:
-    return Pose2D(x, y, math.atan2(fy - y, fx - x))
+_facing = Pose2D.looking_at
 
 
-def keep_away(x: float, y: float, ball: Ball, radius: float) -> tuple[float, float]:
+def keep_away(x: float, y: float, ball: FusedBall, radius: float) -> tuple[float, float]:
     """Push (x, y) radially out of the circle of ``radius`` around the ball (towards the own goal if on it)."""
     dx, dy = x - ball.x, y - ball.y
     d = math.hypot(dx, dy)
@@ -56,12 +53,12 @@ def _inside(x: float, y: float, field: FieldGeometry, margin: float = 0.5) -> tu
             max(-field.half_width + margin, min(field.half_width - margin, y)))
 
 
-def _goalie_spot(ball: Ball, field: FieldGeometry) -> Pose2D:
+def _goalie_spot(ball: FusedBall, field: FieldGeometry) -> Pose2D:
     y = max(-field.goal_width / 2 + 0.3, min(field.goal_width / 2 - 0.3, ball.y * 0.3))
     return _facing(-field.half_length + 0.4, y, ball.x, ball.y)
 
 
-def _defensive_spots(ball: Ball, field: FieldGeometry, count: int, radius: float) -> list[tuple[float, float]]:
+def _defensive_spots(ball: FusedBall, field: FieldGeometry, count: int, radius: float) -> list[tuple[float, float]]:
     """Spots between the ball and the own goal on a ring ``radius`` around the ball, spread out."""
     own = (-field.half_length, 0.0)
     base = math.atan2(own[1] - ball.y, own[0] - ball.x)
@@ -73,10 +70,10 @@ def _defensive_spots(ball: Ball, field: FieldGeometry, count: int, radius: float
     return spots
 
 
-def formation(mode: MatchMode, ball: Ball, team: list[Mate], roles: dict[int, Role], field: FieldGeometry,
+def formation(mode: MatchMode, ball: FusedBall, team: list[RobotReport], roles: dict[int, Role], field: FieldGeometry,
               play: PlayParams) -> Formation:
     """Target poses for ``mode`` (a set piece, drop ball, park or stop)."""
-    ids = sorted(m.agent_id for m in team if m.valid)
+    ids = sorted(m.agent_id for m in team)
     goalie = play.goalie_id if play.goalie_id in ids else 0
     field_ids = sorted((i for i in ids if i != goalie), key=lambda i: (roles.get(i, Role.NOROLE) != Role.ACTIVE,
                                                                        roles.get(i, Role.NOROLE), i))
@@ -102,9 +99,9 @@ def formation(mode: MatchMode, ball: Ball, team: list[Mate], roles: dict[int, Ro
         return _kickoff(mode == MatchMode.OUR_KICKOFF, ball, field_ids, targets, field, play)
     if mode == MatchMode.OUR_PENALTY or mode == MatchMode.OPP_PENALTY:
         return _penalty(mode == MatchMode.OUR_PENALTY, ball, field_ids, targets, field, play)
-    if mode in OURS:
+    if mode in OUR_SET_PLAYS:
         return _our_restart(ball, field_ids, targets, field, play)
-    if mode in THEIRS:
+    if mode in THEIR_SET_PLAYS:
         radius = play.set_play_distance + _MARGIN
         spots = _defensive_spots(ball, field, len(field_ids), radius)
         for i, (x, y) in zip(field_ids, spots):
@@ -117,7 +114,7 @@ def formation(mode: MatchMode, ball: Ball, team: list[Mate], roles: dict[int, Ro
     return Formation({i: poses[i] for i in ids})  # STARTROBOT, TEST: no formation
 
 
-def _kickoff(ours: bool, ball: Ball, ids: list[int], targets: dict[int, Pose2D], field: FieldGeometry,
+def _kickoff(ours: bool, ball: FusedBall, ids: list[int], targets: dict[int, Pose2D], field: FieldGeometry,
              play: PlayParams) -> Formation:
     circle = field.center_circle_radius + _MARGIN
     spots = [(-circle - 0.5, 0.0), (-4.0, -3.0), (-4.0, 3.0), (-6.0, 0.0)]
@@ -137,7 +134,7 @@ def _kickoff(ours: bool, ball: Ball, ids: list[int], targets: dict[int, Pose2D],
     return Formation(targets, taker, receiver)
 
 
-def _penalty(ours: bool, ball: Ball, ids: list[int], targets: dict[int, Pose2D], field: FieldGeometry,
+def _penalty(ours: bool, ball: FusedBall, ids: list[int], targets: dict[int, Pose2D], field: FieldGeometry,
              play: PlayParams) -> Formation:
     spot_x = (1.0 if ours else -1.0) * (field.half_length - field.penalty_mark_distance)
     line_x = 0.0 if ours else -field.half_length + field.penalty_area_length + play.set_play_distance + _MARGIN
@@ -149,12 +146,12 @@ def _penalty(ours: bool, ball: Ball, ids: list[int], targets: dict[int, Pose2D],
     for k, i in enumerate(rest):
         y = (k - (len(rest) - 1) / 2.0) * 1.5
         x = line_x - 1.0 if ours else max(line_x, -field.half_length + field.penalty_area_length + 1.0)
-        x, y = keep_away(x, y, Ball(spot_x, 0.0), play.set_play_distance + _MARGIN)
+        x, y = keep_away(x, y, FusedBall(spot_x, 0.0), play.set_play_distance + _MARGIN)
         targets[i] = _facing(x, y, spot_x, 0.0)
     return Formation(targets, taker)
 
 
-def _our_restart(ball: Ball, ids: list[int], targets: dict[int, Pose2D], field: FieldGeometry,
+def _our_restart(ball: FusedBall, ids: list[int], targets: dict[int, Pose2D], field: FieldGeometry,
                  play: PlayParams) -> Formation:
     if not ids:
         return Formation(targets)

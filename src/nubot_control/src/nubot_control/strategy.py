@@ -1,12 +1,13 @@
 """One control cycle of one robot: the team state in, velocity and ball commands out.
 
-Requires: ``TeamState`` each cycle (33 Hz), ``ControlParams``. Provides: ``Strategy.step``
--> ``ControlOutput`` (body-frame velocity for VelCmd, the dribbler wish for BallHandle, an
-optional Shoot request, and what goes into StrategyInfo: role, action, target, static pass
-numbers, pass command). Game flow: STOPROBOT stops; set pieces, drop ball and park move
-to their formation; STARTROBOT after our set piece lets the taker pass to the receiver
-(the static pass), after theirs waits until the ball is in play; then open play with
-roles from the ``RoleAllocator``.
+Requires: ``TeamState`` each cycle (33 Hz), ``ControlParams`` and the match's
+``WorldDescription``. Provides: ``Strategy.step`` -> ``ControlOutput`` (body-frame velocity for
+VelCmd, the dribbler wish for BallHandle, an optional Shoot request, and what goes into
+StrategyInfo: role, action, target, static pass numbers, pass command). Game flow: STOPROBOT
+stops; set pieces, drop ball and park move to their formation; STARTROBOT after our set piece
+lets the taker pass to the receiver (the static pass), after theirs waits until the ball is in
+play; then open play with roles from the ``RoleAllocator``. A ball the world model does not
+know is searched for where it was last seen (``behaviours.search_ball``), never chased.
 """
 
 from __future__ import annotations
@@ -14,42 +15,43 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from nubot_common.match_mode import MatchMode
+from nubot_common.commands import BodyVelocity, KickCommand
+from nubot_common.match_mode import OUR_SET_PLAYS, THEIR_SET_PLAYS, MatchMode
+from nubot_common.team_play import PassCommand, Role
+from nubot_common.world_description import WorldDescription
 from nubot_control import behaviours as bh
 from nubot_control.motion import MotionController
 from nubot_control.params import ControlParams
 from nubot_control.role_allocation import RoleAllocator
-from nubot_control.roles import Role
-from nubot_control.set_plays import OURS, THEIRS, Formation, formation
-from nubot_control.team_state import PassPlan, TeamState
+from nubot_control.set_plays import Formation, formation
+from nubot_control.team_state import TeamState
 
 _BALL_IN_PLAY_DISTANCE = 0.5  # a restart is over once the ball moved this far [m]
-_PASS_MEMORY = 3.0  # a pass plan is kept this long after the kick [s]
-_BALL_RADIUS = 0.11  # [m], FIFA size 5
+_PASS_MEMORY = 3.0  # a pass command is kept this long after the kick [s]
 _KICKED_BALL_SPEED = 1.0  # a ball this fast has been kicked [m/s]
+_RESTARTS = OUR_SET_PLAYS | THEIR_SET_PLAYS
 
 
 @dataclass(frozen=True)
 class ControlOutput:
-    vx: float  # body frame [m/s]
-    vy: float
-    w: float  # [rad/s]
+    velocity: BodyVelocity  # body frame
     dribble: bool
-    kick: tuple[int, int] | None
+    kick: KickCommand | None  # only while holding the ball
     role: Role
     action: bh.Action
-    target: tuple[float, float]
+    target: tuple[float, float]  # team frame [m]
     static_pass: tuple[int, int] = (0, 0)  # (staticpassNum, staticcatchNum)
-    pass_plan: PassPlan | None = None
+    pass_cmd: PassCommand | None = None
     role_of: dict[int, Role] | None = None  # the team assignment this robot computed
 
 
 class Strategy:
-    def __init__(self, params: ControlParams, agent_id: int):
+    def __init__(self, params: ControlParams, world: WorldDescription, agent_id: int):
         self.params = params
+        self.world = world
         self.agent_id = agent_id
-        self.motion = MotionController(params.motion, params.field, 1.0 / params.rate)
-        self.allocator = RoleAllocator(params.play, params.motion, params.field)
+        self.motion = MotionController(params.motion, world, 1.0 / params.rate)
+        self.allocator = RoleAllocator(params.play, params.motion, world.field)
         self.role = Role.NOROLE
         self.role_since = 0.0
         self._last_time: float | None = None
@@ -57,7 +59,7 @@ class Strategy:
         self._restart_ball: tuple[float, float] | None = None
         self._restart_over = False
         self._mode_seen: tuple[MatchMode, float] | None = None
-        self._my_pass: PassPlan | None = None
+        self._my_pass: PassCommand | None = None
         self._pass_time = -math.inf
         self._frozen_roles: dict[int, Role] | None = None  # roles a formation was built with, per command
         self._kicked_since_start = False
@@ -74,25 +76,26 @@ class Strategy:
             self.role, self.role_since = role, state.time
         if intent.action == bh.Action.STOP:
             self.motion.reset()
-            vx = vy = w = 0.0
+            velocity = BodyVelocity()
         else:
-            vx, vy, w = self.motion.command(state.me.pose, intent.target, self._obstacles(state, intent), dt,
-                                            intent.speed_limit, holding=state.me.holding)
-        if intent.kick is not None and state.me.holding:
-            self._my_pass, self._pass_time = intent.pass_plan, state.time
+            velocity = BodyVelocity(*self.motion.command(state.me.pose, intent.target, self._obstacles(state, intent),
+                                                         dt, intent.speed_limit, holding=state.me.holding))
+        kick = intent.kick if state.me.holding else None
+        if kick is not None:
+            self._my_pass, self._pass_time = intent.pass_cmd, state.time
             self._kicked_since_start = True
-        plan = intent.pass_plan or (self._my_pass if state.time - self._pass_time < _PASS_MEMORY else None)
-        if plan is not None and intent.kick is not None:
-            plan = PassPlan(plan.passer, plan.catcher, plan.catch_x, plan.catch_y, kicked=True)
-        return ControlOutput(vx, vy, w, intent.dribble, intent.kick if state.me.holding else None, role,
-                             intent.action, (intent.target.x, intent.target.y), static_pass, plan, roles)
+        plan = intent.pass_cmd or (self._my_pass if state.time - self._pass_time < _PASS_MEMORY else None)
+        if plan is not None and kick is not None:
+            plan = plan.kicked()
+        return ControlOutput(velocity, intent.dribble, kick, role, intent.action, (intent.target.x, intent.target.y),
+                             static_pass, plan, roles)
 
     # --- game flow ------------------------------------------------------------------------
     def _on_new_mode(self, state: TeamState) -> None:
         self._frozen_roles = None  # who stands where is decided once per command, so robots do not swap
         if state.mode == MatchMode.STARTROBOT:
             self._restart_ball = (state.ball.x, state.ball.y)
-            self._restart_over = state.previous_mode not in OURS | THEIRS
+            self._restart_over = state.previous_mode not in _RESTARTS
             self._kicked_since_start = False
         elif state.mode != MatchMode.STOPROBOT:
             self._restart = None
@@ -106,8 +109,8 @@ class Strategy:
             if self._frozen_roles is None or not set(self._frozen_roles) >= {m.agent_id for m in team}:
                 self._frozen_roles = self.allocator.assign(state)
             roles = dict(self._frozen_roles)
-            plan = formation(mode, state.ball, team, roles, self.params.field, self.params.play)
-            self._restart = plan if mode in OURS | THEIRS else None
+            plan = formation(mode, state.ball, team, roles, state.field, self.params.play)
+            self._restart = plan if mode in _RESTARTS else None
             if plan.taker:
                 roles = {**roles, plan.taker: Role.PASSOFPASS}
             if plan.receiver:
@@ -125,10 +128,10 @@ class Strategy:
         late = state.time - state.mode_since > self.params.play.set_play_timeout
         moved = self._restart_ball is not None and math.hypot(state.ball.x - self._restart_ball[0],
                                                                state.ball.y - self._restart_ball[1])
-        if state.previous_mode in OURS:
+        if state.previous_mode in OUR_SET_PLAYS:
             held = any(m.holding for m in state.team)  # a held ball moves with its robot: not kicked yet
             rolling = not held and math.hypot(state.ball.vx, state.ball.vy) > _KICKED_BALL_SPEED
-            kicked = self._kicked_since_start or (state.pass_plan is not None and state.pass_plan.kicked)
+            kicked = self._kicked_since_start or (state.pass_cmd is not None and state.pass_cmd.is_passout)
             return late or kicked or bool(rolling and moved and moved > _BALL_IN_PLAY_DISTANCE)
         return late or bool(moved and moved > _BALL_IN_PLAY_DISTANCE)
 
@@ -137,18 +140,19 @@ class Strategy:
         assert plan is not None
         roles = {m.agent_id: Role.NOROLE for m in state.team}
         static = (plan.taker, plan.receiver)
-        if state.previous_mode in OURS and self.agent_id == plan.taker:
+        if state.previous_mode in OUR_SET_PLAYS and self.agent_id == plan.taker:
             roles[plan.taker] = Role.PASSOFPASS
             if state.me.holding:
                 receiver = next((m for m in state.mates if m.agent_id == plan.receiver), None)
                 if receiver is not None:
-                    return bh.pass_to(state, receiver, self.params), roles, static
+                    return bh.pass_to(state, receiver, self.params, static=True), roles, static
                 return bh.attack(state, self.params), roles, static
             return bh.chase_ball(state, self.params), roles, static
-        if state.previous_mode in OURS and self.agent_id == plan.receiver:
+        if state.previous_mode in OUR_SET_PLAYS and self.agent_id == plan.receiver:
             roles[plan.receiver] = Role.CATCHOFPASS
             target = plan.targets.get(self.agent_id, state.me.pose)
-            catch = PassPlan(plan.taker, plan.receiver, target.x, target.y, kicked=True)
+            catch = PassCommand(plan.taker, plan.receiver, catch_pt=(target.x, target.y), is_passout=True,
+                                is_static_pass=True)
             return bh.catch_pass(state, catch, self.params), roles, static
         target = plan.targets.get(self.agent_id, state.me.pose)
         return bh.Intent(target, bh.Action.POSITION), roles, static
@@ -156,8 +160,8 @@ class Strategy:
     def _open_play(self, state: TeamState) -> tuple[bh.Intent, dict[int, Role], tuple[int, int]]:
         roles = self.allocator.assign(state)
         role = roles.get(self.agent_id, Role.NOROLE)
-        plan = state.pass_plan
-        if plan is not None and plan.catcher == self.agent_id and not state.me.holding:
+        plan = state.pass_cmd
+        if plan is not None and plan.catch_id == self.agent_id and not state.me.holding:
             roles[self.agent_id] = Role.CATCHOFPASS
             return bh.catch_pass(state, plan, self.params), roles, (0, 0)
         if role == Role.GOALIE:
@@ -176,7 +180,7 @@ class Strategy:
         obstacles: list[tuple[float, ...]] = list(state.obstacles())
         if intent.action == bh.Action.POSITION and state.mode != MatchMode.STARTROBOT:
             # Walk around the placed ball, never push it; the taker may come to 0.55 m of it.
-            keep = self.params.motion.robot_radius + _BALL_RADIUS + 0.1
+            keep = self.world.robot.radius + self.world.ball.radius + 0.1
             obstacles.append((state.ball.x, state.ball.y, keep))
         return obstacles
 
@@ -185,4 +189,4 @@ def _most_dangerous_opponent(state: TeamState) -> tuple[float, float] | None:
     """The opponent nearest the own goal inside the own half and away from the ball, if any."""
     candidates = [o for o in state.opponents
                   if o[0] < 0.0 and math.hypot(o[0] - state.ball.x, o[1] - state.ball.y) > 2.0]
-    return min(candidates, key=lambda o: o[0], default=None)
+    return min(candidates, key=lambda o: o[0]) if candidates else None

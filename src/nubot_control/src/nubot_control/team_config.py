@@ -9,11 +9,14 @@ says which world goal the team attacks.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from xml.sax.saxutils import quoteattr
 
-from nubot_common.geometry import wrap_angle
+from nubot_common import NubotCommonError
+from nubot_common.field import FieldGeometry
+from nubot_common.geometry import Pose2D
+from nubot_common.naming import RobotName, check_team_prefix
+from nubot_common.team_frame import TeamFrame
 
 
 @dataclass(frozen=True)
@@ -33,27 +36,34 @@ class TeamConfig:
     control_config: str = ""  # extra nubot_control YAML for this team (e.g. your own strategy's parameters)
 
     def __post_init__(self) -> None:
-        if not self.prefix.isalpha() or not self.prefix.islower():
-            raise ValueError(f"prefix must be lower-case letters, got {self.prefix!r}")
-        if self.attack not in (1, -1):
-            raise ValueError(f"attack must be 1 or -1, got {self.attack}")
+        try:
+            check_team_prefix(self.prefix)
+            TeamFrame(self.attack)
+        except NubotCommonError as exc:
+            raise ValueError(str(exc)) from None
         if not 1 <= len(self.robots) <= 5:
             raise ValueError(f"a team has 1 to 5 robots, got {len(self.robots)}")
         if not 1 <= self.goalie <= len(self.robots):
             raise ValueError(f"goalie must be one of the robots 1..{len(self.robots)}, got {self.goalie}")
 
     def robot_names(self) -> list[str]:
-        return [f"{self.prefix}{k}" for k in range(1, len(self.robots) + 1)]
+        return [str(RobotName(self.prefix, k)) for k in range(1, len(self.robots) + 1)]
 
     def world_poses(self) -> list[tuple[str, float, float, float]]:
         """(name, x, y, yaw) of every robot in the world frame."""
+        frame = TeamFrame(self.attack)
         poses = []
         for name, p in zip(self.robot_names(), self.robots):
-            if self.attack == 1:
-                poses.append((name, p.x, p.y, p.theta))
-            else:
-                poses.append((name, -p.x, -p.y, wrap_angle(p.theta + math.pi)))
+            pose = frame.pose_to_world(Pose2D(p.x, p.y, p.theta))
+            poses.append((name, pose.x, pose.y, pose.theta))
         return poses
+
+    def check_field(self, field: FieldGeometry) -> None:
+        """Raise ``ValueError`` naming the first robot whose start pose is off ``field`` (lines plus border)."""
+        for name, p in zip(self.robot_names(), self.robots):
+            if not field.is_inside(p.x, p.y, field.border):
+                raise ValueError(f"{name} starts at ({p.x:g}, {p.y:g}), off the {field.length:g} x {field.width:g} m "
+                                 "field")
 
 
 def team_launch_xml(team: TeamConfig, tracker: str = "") -> str:
@@ -69,7 +79,6 @@ def team_launch_xml(team: TeamConfig, tracker: str = "") -> str:
     for name in team.robot_names():
         lines += ["  <include file=\"$(find nubot_control)/launch/robot.launch\">",
                   f"    <arg name=\"robot\" value={quoteattr(name)}/>",
-                  f"    <arg name=\"team\" value={quoteattr(team.prefix)}/>",
                   f"    <arg name=\"goalie_id\" value=\"{team.goalie}\"/>",
                   f"    <arg name=\"config\" value={quoteattr(team.control_config)}/>",
                   f"    <arg name=\"tracker\" value={quoteattr(tracker)}/>",

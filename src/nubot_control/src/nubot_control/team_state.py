@@ -1,69 +1,53 @@
-"""The plain snapshot of the world one robot's strategy reads each cycle (team frame, SI units).
+"""The view of the world one robot's strategy reads each cycle: the world model's decision, reshaped.
 
-Provides dataclasses only: ``Mate`` (a teammate or the robot itself), ``Ball``, ``TeamState``.
-The team frame has the own goal at -x and the opponent goal at +x.
+Requires: a ``WorldState`` (the world model's decision), the control time [s], the goalie's AgentID
+and the field. Provides: ``TeamState`` and ``team_state`` which builds it without deciding anything
+again: the robots the world model holds valid (this robot apart), its fused ball (known or where it
+was last seen), the obstacles it labels opponents, the game command with the time it came into
+force, the pass it holds in force. The team frame has the own goal at -x and the opponent goal at +x.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-from nubot_common.geometry import Pose2D
+from nubot_common.field import FieldGeometry
 from nubot_common.match_mode import MatchMode
-from nubot_control.roles import Role
-
-
-@dataclass(frozen=True)
-class Mate:
-    agent_id: int
-    pose: Pose2D
-    vx: float = 0.0  # [m/s], team frame
-    vy: float = 0.0
-    role: Role = Role.NOROLE
-    role_time: float = 0.0  # [s] the role has been kept
-    holding: bool = False
-    valid: bool = True
-
-
-@dataclass(frozen=True)
-class Ball:
-    x: float
-    y: float
-    vx: float = 0.0  # [m/s]
-    vy: float = 0.0
-    known: bool = True
-
-
-@dataclass(frozen=True)
-class PassPlan:
-    """A pass in force: who kicks, who receives, where it is caught (team frame)."""
-
-    passer: int
-    catcher: int
-    catch_x: float
-    catch_y: float
-    kicked: bool = False
+from nubot_common.percepts import RobotReport
+from nubot_common.team_play import PassCommand, Point
+from nubot_common.world_state import FusedBall, WorldState
 
 
 @dataclass(frozen=True)
 class TeamState:
-    time: float  # [s], sim time
-    me: Mate
-    mates: tuple[Mate, ...]  # valid teammates, without me
-    ball: Ball
-    opponents: tuple[tuple[float, float], ...]  # obstacle positions labelled opponents [m]
+    time: float  # [s], sim time of this control cycle
+    me: RobotReport
+    mates: tuple[RobotReport, ...]  # valid teammates, without me
+    ball: FusedBall  # check ``ball.known``: when not, (x, y) is where it was last seen
+    opponents: tuple[Point, ...]  # obstacle positions labelled opponents [m]
+    field: FieldGeometry
     mode: MatchMode = MatchMode.STOPROBOT
     previous_mode: MatchMode = MatchMode.STOPROBOT
-    mode_since: float = 0.0  # [s] sim time the mode started
-    pass_plan: PassPlan | None = None
+    mode_since: float = 0.0  # [s] sim time the command came into force
+    pass_cmd: PassCommand | None = None  # the pass in force
     goalie_id: int = 1
-    team_roles: dict[int, Role] = field(default_factory=dict)  # roles teammates announce
 
     @property
-    def team(self) -> tuple[Mate, ...]:
+    def team(self) -> tuple[RobotReport, ...]:
         """All valid robots of the team, me included, by AgentID."""
         return tuple(sorted((self.me, *self.mates), key=lambda m: m.agent_id))
 
     def obstacles(self) -> list[tuple[float, float]]:
         """Everything to avoid except me: teammates and opponents [m]."""
         return [(m.pose.x, m.pose.y) for m in self.mates] + list(self.opponents)
+
+
+def team_state(world: WorldState, time: float, goalie_id: int, field: FieldGeometry) -> TeamState | None:
+    """The strategy's view of ``world`` at control time ``time``; None while the robot itself is not valid."""
+    me = world.me
+    if not me.valid or me.report is None:
+        return None
+    mates = tuple(r.report for r in world.teammates if r.valid and r.report is not None)
+    game = world.game
+    return TeamState(time, me.report, mates, world.ball, tuple((o.x, o.y) for o in world.opponents), field,
+                     game.mode, game.previous, game.since, world.pass_cmd, goalie_id)

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from nubot_common.processes import wait_until
+from nubot_tools.processes import wait_until
 
 pytestmark = pytest.mark.integration
 
@@ -51,11 +51,10 @@ def match(ros_master, tmp_path_factory):
     for prefix, attack in (("nubot", 1), ("rival", -1)):
         path = folder / f"{prefix}.yaml"
         path.write_text(yaml.safe_dump({"name": prefix, "prefix": prefix, "attack": attack, **TEAM}))
-        teams.append(ros_master.launch(f"team_{prefix}", [sys.executable, str(ROOT / "scripts" / "spawn_team.py"),
+        teams.append(ros_master.launch(f"team_{prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
                                                           str(path)]))
     watch = Watch()
-    sys.path.insert(0, str(ROOT / "scripts"))
-    from run_match import wait_for_robots
+    from nubot_tools.ros.match_runner import wait_for_robots
 
     silent = wait_for_robots([f"{p}{k}" for p in ("nubot", "rival") for k in (1, 2, 3)], timeout=120)
     assert not silent, f"robots without a world model: {silent}\n{teams[0].log_text()[-3000:]}"
@@ -150,4 +149,4 @@ def test_running_match_graph_matches_the_topic_table(match):
             want = {re.sub(r"<r>", robot, p).replace("<T>", team) for p in re.findall(r"/[<>a-zA-Z_/]+", producer)}
             assert published.get(name) == want, f"{name}: published by {published.get(name)}, table says {want}"
             checked += 1
-    assert checked == 12
+    assert checked == 14

@@ -5,19 +5,20 @@ import math
 import numpy as np
 import pytest
 
-from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate
+from nubot_common.world_description import WorldDescription
 from nubot_control.motion import MotionController, sub_target
 from nubot_control.params import MotionParams
 
 P = MotionParams()
+ROBOT_RADIUS = WorldDescription().robot.radius  # [m]
 DT = 1 / 33
 TRACKERS = ["mpc", "baseline"]
 
 
 def drive(start, target, obstacles, seconds=8.0, tracker="mpc", holding=False, waypoints=None, **params):
     """Integrate the commands kinematically; return the path and the controller."""
-    ctl = MotionController(MotionParams(tracker=tracker, **params), FieldGeometry(), DT)
+    ctl = MotionController(MotionParams(tracker=tracker, **params), WorldDescription(), DT)
     pose, path = start, [start]
     for _ in range(int(seconds / DT)):
         if waypoints is None:
@@ -68,7 +69,7 @@ def test_never_drives_through_an_obstacle(tracker, offset):
     obstacles = [(3.0, offset), (5.0, -offset)]
     path, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(8.0, 0.0, 0.0), obstacles, seconds=10.0, tracker=tracker)
     closest = min(math.hypot(p.x - ox, p.y - oy) for p in path for ox, oy in obstacles)
-    assert closest > 2 * P.robot_radius, "the hulls never touch"
+    assert closest > 2 * ROBOT_RADIUS, "the hulls never touch"
     assert path[-1].x == pytest.approx(8.0, abs=0.05)
 
 
@@ -82,13 +83,13 @@ def test_mpc_follows_waypoints_in_order_around_two_robots():
     passes = [int(np.argmin(np.linalg.norm(xy - w, axis=1))) for w in waypoints]
     assert passes == sorted(passes), "p1, then p2, then p3"
     assert all(np.linalg.norm(xy - w, axis=1).min() < 0.1 for w in waypoints)
-    gaps = [np.linalg.norm(xy - o, axis=1).min() - 2 * P.robot_radius for o in obstacles]
+    gaps = [np.linalg.norm(xy - o, axis=1).min() - 2 * ROBOT_RADIUS for o in obstacles]
     assert min(gaps) > 0.1
     assert np.linalg.norm(xy[-1] - waypoints[-1]) < 0.03
 
 
 def test_mpc_reference_moves_on_smoothly_from_cycle_to_cycle():
-    ctl = MotionController(MotionParams(), FieldGeometry(), DT)
+    ctl = MotionController(MotionParams(), WorldDescription(), DT)
     pose, refs = Pose2D(0.0, 0.0, 0.0), []
     for _ in range(120):
         bx, by, w = ctl.command(pose, Pose2D(7.0, 3.0, 0.0), [(3.5, 1.4)], DT)

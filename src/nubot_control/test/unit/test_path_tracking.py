@@ -5,6 +5,7 @@ import math
 import pytest
 
 from nubot_common.geometry import Pose2D, rotate
+from nubot_common.world_description import WorldDescription
 from nubot_control.params import MotionParams
 from nubot_control.path_tracking import PathTracker, PathTrackingParams
 
@@ -24,7 +25,7 @@ def run(tracker, seconds, start=(-6.0, -3.0), obstacles=((-4.0, 0.0), (0.0, 0.0)
 @pytest.mark.parametrize("tracker", ["mpc", "baseline"])
 def test_stands_still_for_the_start_delay_then_drives_to_p3_and_finishes(tracker):
     params = PathTrackingParams(start_delay=1.0, motion=MotionParams(tracker=tracker, max_speed=3.25))
-    pose, samples = run(PathTracker(params), 16.0)
+    pose, samples = run(PathTracker(params, WorldDescription()), 16.0)
     assert all(s.command == (0.0, 0.0) for s in samples[:32]), "still during the start delay"
     assert samples[40].command != (0.0, 0.0)
     done = next(k for k, s in enumerate(samples) if s.finished)
@@ -35,14 +36,14 @@ def test_stands_still_for_the_start_delay_then_drives_to_p3_and_finishes(tracker
 
 def test_mpc_error_to_the_reference_stays_small_on_a_kinematic_robot():
     params = PathTrackingParams(start_delay=0.0, motion=MotionParams(max_speed=3.25))
-    _, samples = run(PathTracker(params), 12.0)
+    _, samples = run(PathTracker(params, WorldDescription()), 12.0)
     errors = [s.error for s in samples if not s.finished]
     assert max(errors) < 0.05 and sum(e * e for e in errors) / len(errors) < 0.02 ** 2
 
 
 def test_a_stale_pose_is_carried_forward_with_the_commanded_velocity():
     params = PathTrackingParams(start_delay=0.0, waypoints=((5.0, 0.0),), motion=MotionParams(max_speed=2.0))
-    tracker = PathTracker(params)
+    tracker = PathTracker(params, WorldDescription())
     pose = Pose2D(0.0, 0.0, 0.0)
     for k in range(30):
         tracker.step(k * DT, pose, [])

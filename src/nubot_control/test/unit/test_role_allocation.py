@@ -5,24 +5,27 @@ from dataclasses import replace
 
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D
+from nubot_common.percepts import RobotReport
+from nubot_common.team_play import Role
+from nubot_common.world_state import FusedBall
 from nubot_control.params import MotionParams, PlayParams
 from nubot_control.role_allocation import RoleAllocator, support_positions
-from nubot_control.roles import Role
-from nubot_control.team_state import Ball, Mate, TeamState
+from nubot_control.team_state import TeamState
 
-ALLOCATOR = RoleAllocator(PlayParams(goalie_id=1), MotionParams(), FieldGeometry())
+FIELD = FieldGeometry()
+ALLOCATOR = RoleAllocator(PlayParams(goalie_id=1), MotionParams(), FIELD)
 
 
 def team(ball=(2.0, 0.0), overrides=None):
     overrides = overrides or {}
     poses = {1: (-8.5, 0.0), 2: (1.0, 0.0), 3: (-2.0, 3.0), 4: (-4.0, -2.0), 5: (-6.0, 0.0)}
-    mates = [Mate(i, Pose2D(x, y, 0.0), **overrides.get(i, {})) for i, (x, y) in poses.items()]
-    return mates, Ball(*ball)
+    mates = [RobotReport(i, Pose2D(x, y, 0.0), **overrides.get(i, {})) for i, (x, y) in poses.items()]
+    return mates, FusedBall(*ball)
 
 
 def state_for(me_id, mates, ball, t=10.0):
     me = next(m for m in mates if m.agent_id == me_id)
-    return TeamState(t, me, tuple(m for m in mates if m.agent_id != me_id), ball, ())
+    return TeamState(t, me, tuple(m for m in mates if m.agent_id != me_id), ball, (), FIELD)
 
 
 def test_every_robot_computes_the_same_assignment():
@@ -81,3 +84,19 @@ def test_no_goalie_when_the_goalie_is_gone():
     mates, ball = team()
     roles = ALLOCATOR.assign(state_for(2, [m for m in mates if m.agent_id != 1], ball))
     assert Role.GOALIE not in roles.values()
+
+
+def test_a_lost_ball_keeps_the_announced_attacker():
+    """With the ball not known, nobody is nearer to it: the robot that was attacking stays the attacker."""
+    mates, _ = team(overrides={3: {"role": Role.ACTIVE, "role_time": 5.0}})
+    mates = [replace(m, pose=Pose2D(6.0, 5.0, math.pi)) if m.agent_id == 3 else m for m in mates]
+    lost = FusedBall(0.0, 0.0, known=False)  # last seen at the centre spot, next to robot 2
+    roles = ALLOCATOR.assign(state_for(2, mates, lost))
+    assert roles[3] == Role.ACTIVE
+    assert ALLOCATOR.assign(state_for(2, mates, FusedBall(0.0, 0.0)))[3] != Role.ACTIVE, "a seen ball does switch"
+
+
+def test_a_lost_ball_with_no_attacker_goes_to_the_nearest_to_where_it_was_seen():
+    mates, _ = team()
+    roles = ALLOCATOR.assign(state_for(3, mates, FusedBall(1.5, 0.0, known=False)))
+    assert roles[2] == Role.ACTIVE

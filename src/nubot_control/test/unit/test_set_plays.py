@@ -6,21 +6,22 @@ import pytest
 
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D
-from nubot_common.match_mode import MatchMode
+from nubot_common.match_mode import OUR_SET_PLAYS, THEIR_SET_PLAYS, MatchMode
+from nubot_common.percepts import RobotReport
+from nubot_common.team_play import Role
+from nubot_common.world_state import FusedBall
 from nubot_control.params import PlayParams
-from nubot_control.roles import Role
-from nubot_control.set_plays import OURS, THEIRS, formation
-from nubot_control.team_state import Ball, Mate
+from nubot_control.set_plays import formation
 
 FIELD, PLAY = FieldGeometry(), PlayParams(goalie_id=1)
-TEAM = [Mate(i, Pose2D(x, y, 0.0)) for i, (x, y) in
+TEAM = [RobotReport(i, Pose2D(x, y, 0.0)) for i, (x, y) in
         {1: (-8.5, 0.0), 2: (1.0, 0.0), 3: (-2.0, 3.0), 4: (-4.0, -2.0), 5: (-6.0, 0.0)}.items()]
 ROLES = {1: Role.GOALIE, 2: Role.ACTIVE, 3: Role.ASSISTANT, 4: Role.PASSIVE, 5: Role.MIDFIELD}
-BALLS = [Ball(0.0, 0.0), Ball(4.0, 5.9), Ball(-8.9, -5.9), Ball(-6.0, 0.5), Ball(8.0, -3.0)]
+BALLS = [FusedBall(0.0, 0.0), FusedBall(4.0, 5.9), FusedBall(-8.9, -5.9), FusedBall(-6.0, 0.5), FusedBall(8.0, -3.0)]
 
 
 @pytest.mark.parametrize("ball", BALLS)
-@pytest.mark.parametrize("mode", sorted(THEIRS - {MatchMode.OPP_PENALTY, MatchMode.OPP_KICKOFF}))
+@pytest.mark.parametrize("mode", sorted(THEIR_SET_PLAYS - {MatchMode.OPP_PENALTY, MatchMode.OPP_KICKOFF}))
 def test_opponent_set_pieces_keep_three_metres(mode, ball):
     plan = formation(mode, ball, TEAM, ROLES, FIELD, PLAY)
     assert set(plan.targets) == {1, 2, 3, 4, 5}
@@ -30,7 +31,7 @@ def test_opponent_set_pieces_keep_three_metres(mode, ball):
 
 
 def test_kickoffs_keep_everyone_in_the_own_half():
-    ball = Ball(0.0, 0.0)
+    ball = FusedBall(0.0, 0.0)
     theirs = formation(MatchMode.OPP_KICKOFF, ball, TEAM, ROLES, FIELD, PLAY)
     for pose in theirs.targets.values():
         assert pose.x < 0.0
@@ -49,9 +50,9 @@ def test_drop_ball_keeps_one_metre(ball):
         assert math.hypot(pose.x - ball.x, pose.y - ball.y) >= 1.0
 
 
-@pytest.mark.parametrize("mode", sorted(OURS - {MatchMode.OUR_KICKOFF, MatchMode.OUR_PENALTY}))
+@pytest.mark.parametrize("mode", sorted(OUR_SET_PLAYS - {MatchMode.OUR_KICKOFF, MatchMode.OUR_PENALTY}))
 def test_our_restart_has_a_taker_at_the_ball_and_a_receiver_three_metres_away(mode):
-    ball = Ball(3.0, 5.9)
+    ball = FusedBall(3.0, 5.9)
     plan = formation(mode, ball, TEAM, ROLES, FIELD, PLAY)
     taker, receiver = plan.targets[plan.taker], plan.targets[plan.receiver]
     assert plan.taker == 2, "the active robot takes it"
@@ -61,7 +62,7 @@ def test_our_restart_has_a_taker_at_the_ball_and_a_receiver_three_metres_away(mo
 
 
 def test_opponent_penalty_leaves_only_the_goalie_near_the_goal():
-    plan = formation(MatchMode.OPP_PENALTY, Ball(-6.0, 0.0), TEAM, ROLES, FIELD, PLAY)
+    plan = formation(MatchMode.OPP_PENALTY, FusedBall(-6.0, 0.0), TEAM, ROLES, FIELD, PLAY)
     assert plan.targets[1].x < -8.0
     spot = (-FIELD.half_length + FIELD.penalty_mark_distance, 0.0)
     for agent in (2, 3, 4, 5):
@@ -71,7 +72,7 @@ def test_opponent_penalty_leaves_only_the_goalie_near_the_goal():
 
 
 def test_parking_lines_up_along_the_side_line():
-    plan = formation(MatchMode.PARKINGROBOT, Ball(0.0, 0.0), TEAM, ROLES, FIELD, PLAY)
+    plan = formation(MatchMode.PARKINGROBOT, FusedBall(0.0, 0.0), TEAM, ROLES, FIELD, PLAY)
     ys = {round(p.y, 6) for p in plan.targets.values()}
     assert ys == {-FIELD.half_width - 0.5}
     xs = sorted(p.x for p in plan.targets.values())

@@ -1,11 +1,22 @@
 """The strategy in an in-process match (simulator core, no ROS): kickoff, set pieces, open play."""
 
 import math
+from dataclasses import replace
 
 import pytest
 
+from nubot_common.field import FieldGeometry
+from nubot_common.geometry import Pose2D, rotate
 from nubot_common.match_mode import MatchMode
-from nubot_control.roles import Role
+from nubot_common.percepts import RobotReport
+from nubot_common.team_play import Role
+from nubot_common.world_description import WorldDescription
+from nubot_common.world_state import FusedBall
+from nubot_control.behaviours import Action
+from nubot_control.params import ControlParams
+from nubot_control.strategy import Strategy
+from nubot_control.team_state import TeamState
+from sim_visual.params import NoiseParams
 
 TEAMS = [("nubot1", -8.4, 0, 0), ("nubot2", -1.0, 0, 0), ("nubot3", -3, 2.5, 0), ("nubot4", -3, -2.5, 0),
          ("nubot5", -5.5, 0, 0), ("rival1", 8.4, 0, math.pi), ("rival2", 1.0, 0, math.pi),
@@ -53,29 +64,82 @@ def test_stop_halts_every_robot(make_match):
     match.run(2.0)
     match.command("nubot", MatchMode.STOPROBOT)
     match.run(1.5)
-    for name in match.strategies:
+    for name in match.agents:
         s = match.sim.world.robot_state(name)
         assert math.hypot(s.vx, s.vy) < 0.05, f"{name} still moves"
 
 
-def test_the_midfielder_marks_an_opponent_lurking_in_our_half():
-    from nubot_common.geometry import Pose2D
-    from nubot_control.behaviours import Action
-    from nubot_control.params import ControlParams
-    from nubot_control.strategy import Strategy
-    from nubot_control.team_state import Ball, Mate, TeamState
+def team_state(me, mates, ball, opponents=(), mode=MatchMode.STARTROBOT, t=1.0):
+    return TeamState(t, me, tuple(mates), ball, tuple(opponents), FieldGeometry(), mode)
 
+
+def test_the_midfielder_marks_an_opponent_lurking_in_our_half():
     # With the ball at (4, 0) the support spots are: passive (-3.2, 0), assistant (6.5, 3), midfield (1.5, -2.5).
-    mates = (Mate(1, Pose2D(-8.5, 0, 0)), Mate(2, Pose2D(3.5, 0, 0)), Mate(3, Pose2D(6, 3, 0)),
-             Mate(5, Pose2D(-3, 0, 0)))
-    me = Mate(4, Pose2D(1.5, -2.4, 0))
+    mates = (RobotReport(1, Pose2D(-8.5, 0, 0)), RobotReport(2, Pose2D(3.5, 0, 0)), RobotReport(3, Pose2D(6, 3, 0)),
+             RobotReport(5, Pose2D(-3, 0, 0)))
+    me = RobotReport(4, Pose2D(1.5, -2.4, 0))
     lurker = (-5.0, -2.0)
-    state = TeamState(1.0, me, mates, Ball(4.0, 0.0), (lurker, (5.0, 1.0)), MatchMode.STARTROBOT)
-    out = Strategy(ControlParams(), 4).step(state)
+    state = team_state(me, mates, FusedBall(4.0, 0.0), (lurker, (5.0, 1.0)))
+    out = Strategy(ControlParams(), WorldDescription(), 4).step(state)
     assert out.role == Role.MIDFIELD and out.action == Action.MARK
     # Between the lurker and the own goal, 1 m from the lurker.
     assert math.dist(out.target, lurker) == pytest.approx(1.0)
     assert -9.0 < out.target[0] < lurker[0]
+
+
+def drive(strategy, me, mates, ball, seconds, dt=1 / 33):
+    """Run ``strategy`` for ``seconds``, moving ``me`` as commanded (an ideal base); return the poses."""
+    poses = []
+    for k in range(round(seconds / dt)):
+        out = strategy.step(team_state(me, mates, ball, t=k * dt))
+        vx, vy = rotate(out.velocity.vx, out.velocity.vy, me.pose.theta)
+        me = replace(me, pose=Pose2D(me.pose.x + vx * dt, me.pose.y + vy * dt, me.pose.theta + out.velocity.w * dt))
+        poses.append(me.pose)
+    return poses, out
+
+
+@pytest.mark.parametrize("last_seen", [(4.0, 0.0), (-1.0, 3.0)])
+def test_a_robot_whose_ball_is_lost_does_not_chase_a_phantom(last_seen):
+    """The attacker heads for where the ball was last seen, stops short of it and turns to look for it."""
+    me = RobotReport(2, Pose2D(0.0, 0.0, 0.0), role=Role.ACTIVE, role_time=5.0)
+    mates = (RobotReport(1, Pose2D(-8.5, 0, 0)),)
+    lost = FusedBall(*last_seen, known=False)
+    strategy = Strategy(ControlParams(), WorldDescription(), 2)
+    poses, out = drive(strategy, me, mates, lost, 6.0)
+    assert out.action == Action.SEARCH and out.role == Role.ACTIVE
+    nearest = min(math.dist((p.x, p.y), last_seen) for p in poses)
+    assert nearest > 1.2, "it never drives onto a ball it does not see"
+    end = poses[-1]
+    assert math.dist((end.x, end.y), last_seen) == pytest.approx(1.5, abs=0.25), "it waits 1.5 m short"
+    turned = abs(poses[-1].theta - poses[-34].theta)
+    assert turned > 0.5, "and turns on the spot to find the ball"
+    assert out.velocity.vx ** 2 + out.velocity.vy ** 2 < 0.1 ** 2
+
+
+def test_a_goalie_whose_ball_is_lost_guards_the_middle_of_its_goal():
+    me = RobotReport(1, Pose2D(-8.6, 1.0, 0.0))
+    strategy = Strategy(ControlParams(), WorldDescription(), 1)
+    poses, out = drive(strategy, me, (RobotReport(2, Pose2D(0, 0, 0)),), FusedBall(-5.0, 4.0, known=False), 3.0)
+    assert out.role == Role.GOALIE
+    assert abs(poses[-1].y) < 0.1 and poses[-1].x == pytest.approx(-8.6, abs=0.1)
+
+
+def test_a_ball_lost_in_a_match_is_searched_where_it_was_last_seen(make_match):
+    """In the in-process match, the ball vanishes from every robot's vision: nobody drives off after a ghost."""
+    match = make_match(TEAMS[:5], ball=(3.0, 1.0))
+    match.run(1.0)
+    seen = {n: match.sim.world.robot_state(n) for n in match.agents}
+    match.sim.update_params(noise=NoiseParams(0, 0, 0, 0, vision_range=0.01))  # every robot is now blind
+    match.run(4.0)
+    for name in match.agents:
+        world = match.steps[name].world
+        assert not world.ball.known and world.ball.position == pytest.approx((3.0, 1.0), abs=0.05)
+        s = match.sim.world.robot_state(name)
+        assert math.hypot(s.x - 3.0, s.y - 1.0) > 1.2, f"{name} came onto the lost ball"
+    active = [n for n, r in match.outputs.items() if r.role == Role.ACTIVE]
+    assert len(active) == 1 and match.outputs[active[0]].action == Action.SEARCH
+    before = seen[active[0]]
+    assert math.hypot(before.x - 3.0, before.y - 1.0) > 1.5
 
 
 @pytest.mark.parametrize("mode", [MatchMode.OUR_THROWIN, MatchMode.OPP_THROWIN])
@@ -92,3 +156,19 @@ def test_robots_walking_into_a_set_play_formation_do_not_push_the_ball(make_matc
         name = next(n for n, out in match.outputs.items() if out.role == Role.PASSOFPASS)
         taker = match.sim.world.robot_state(name)
         assert math.hypot(taker.x - ball.x, taker.y - ball.y) < 0.7, "the taker reached its spot at the ball"
+
+
+def test_on_the_22_by_14_field_the_robots_take_its_kickoff_spots(make_match):
+    """The goalie stands on its own goal line of the field the match is played on: x = -10.6 on 22 x 14."""
+    from nubot_common.world_description import load_world
+
+    match = make_match(TEAMS, world=load_world("22x14"))
+    match.command("rival", MatchMode.OUR_KICKOFF)
+    match.run(5.0)
+    goalie = match.sim.world.robot_state("nubot1")
+    assert (goalie.x, goalie.y) == pytest.approx((-10.6, 0.0), abs=0.15)
+    keeper = match.sim.world.robot_state("rival1")
+    assert (keeper.x, keeper.y) == pytest.approx((10.6, 0.0), abs=0.15), "the other team's goal line, too"
+    for name in ("nubot2", "nubot3", "nubot4", "nubot5"):
+        s = match.sim.world.robot_state(name)
+        assert s.x < 0.0 and math.hypot(s.x, s.y) > 2.0, f"{name} respects the opponent kickoff"

@@ -8,6 +8,7 @@ import pytest
 
 from nubot_common import NubotCommonError
 from nubot_common.params import from_mapping, load_yaml
+from nubot_common.world_description import load_world
 from nubot_control.team_config import TeamConfig, team_launch_xml
 
 TEAMS = Path(__file__).resolve().parents[2] / "config" / "teams"
@@ -36,7 +37,17 @@ def test_launch_file_prefixes_every_robot():
 
 
 def test_bad_team_configs_are_refused():
-    with pytest.raises(NubotCommonError, match="attack must be 1 or -1"):
+    with pytest.raises(NubotCommonError, match=r"attack must be 1 \(the goal at \+x\) or -1 \(the goal at -x\), got 0"):
         from_mapping(TeamConfig, {"name": "x", "prefix": "x", "attack": 0, "goalie": 1, "robots": [{"x": 0, "y": 0}]})
     with pytest.raises(NubotCommonError, match="goalie must be one of the robots"):
         from_mapping(TeamConfig, {"name": "x", "prefix": "x", "attack": 1, "goalie": 3, "robots": [{"x": 0, "y": 0}]})
+    with pytest.raises(NubotCommonError, match="a team prefix is letters and underscores"):
+        from_mapping(TeamConfig, {"name": "x", "prefix": "x2", "attack": 1, "goalie": 1, "robots": [{"x": 0, "y": 0}]})
+
+
+def test_start_poses_are_checked_against_the_match_field():
+    team = from_mapping(TeamConfig, {"name": "x", "prefix": "x", "attack": -1, "goalie": 1,
+                                     "robots": [{"x": -8.4, "y": 0}, {"x": -10.5, "y": 6.5}]})
+    team.check_field(load_world("22x14").field)
+    with pytest.raises(ValueError, match=r"x2 starts at \(-10.5, 6.5\), off the 18 x 12 m field"):
+        team.check_field(load_world("18x12").field)

@@ -1,39 +1,21 @@
-"""Conversions between ROS messages and the simulator's core types (the only place that knows both).
+"""Conversions between ROS messages and the simulator's own core types (the only place that knows both).
 
-Requires: generated ``nubot_common`` messages, ``geometry_msgs``, ``genpy`` (no rospy).
+Requires: generated ``nubot_common`` messages, ``geometry_msgs``, ``genpy`` (no rospy). The shared
+messages (OmniVisionInfo, VelCmd, the world description) are converted by ``nubot_common.conversions``.
 """
 
 from __future__ import annotations
 
 import math
 
-import genpy
 from geometry_msgs.msg import Pose, Twist
 
+from nubot_common.conversions import stamp
 from nubot_common.geometry import quaternion_to_yaw, yaw_to_quaternion
-from nubot_common.msg import (
-    BallInfo,
-    BallTouch,
-    GoalEvent,
-    KickEvent,
-    ModelStates,
-    ObstaclesInfo,
-    OmniVisionInfo,
-    Point2d,
-    Point3d,
-    PPoint,
-    RobotInfo,
-)
+from nubot_common.msg import BallTouch, GoalEvent, KickEvent, ModelStates, Point3d
 from sim_visual import SimVisualError
-from sim_visual.sensing import OmniVisionFrame
 from sim_visual.simulator import BallKicked, BallTouched, GoalScored
 from sim_visual.world import BallState, RobotState
-
-BALL_SEEN = 1
-
-
-def stamp(t: float) -> genpy.Time:
-    return genpy.Time.from_sec(t)
 
 
 def _pose(x: float, y: float, z: float, yaw: float) -> Pose:
@@ -51,8 +33,10 @@ def _twist(vx: float, vy: float, vz: float, wx: float, wy: float, wz: float) -> 
     return twist
 
 
-def model_states_msg(states: list[tuple[str, RobotState | BallState]]) -> ModelStates:
+def model_states_msg(states: list[tuple[str, RobotState | BallState]], t: float) -> ModelStates:
+    """Every model's state at sim time ``t`` [s], world frame."""
     msg = ModelStates()
+    msg.header.stamp = stamp(t)
     for name, s in states:
         msg.name.append(name)
         if isinstance(s, RobotState):
@@ -77,37 +61,6 @@ def model_state_from_msg(pose: Pose, twist: Twist, is_ball: bool) -> RobotState 
     return RobotState(p.x, p.y, yaw, v.x, v.y, w.z)
 
 
-def omni_vision_msg(frame: OmniVisionFrame) -> OmniVisionInfo:
-    t = stamp(frame.stamp)
-    msg = OmniVisionInfo()
-    msg.header.stamp = t
-    ball = BallInfo()
-    ball.header.stamp = t
-    if frame.ball is not None:
-        b = frame.ball
-        ball.ballinfostate = BALL_SEEN
-        ball.pos, ball.velocity = Point2d(b.x, b.y), Point2d(b.vx, b.vy)
-        ball.real_pos = PPoint(b.angle, b.radius)
-        ball.pos_known = ball.velocity_known = True
-    msg.ballinfo = ball
-    obstacles = ObstaclesInfo()
-    obstacles.header.stamp = t
-    obstacles.pos = [Point2d(o.x, o.y) for o in frame.obstacles]
-    obstacles.polar_pos = [PPoint(o.angle, o.radius) for o in frame.obstacles]
-    msg.obstacleinfo = obstacles
-    r = frame.robot
-    info = RobotInfo()
-    info.header.stamp = t
-    info.AgentID = r.agent_id
-    info.pos = Point2d(r.x, r.y)
-    info.heading.theta = r.theta
-    info.vrot = r.w
-    info.vtrans = Point2d(r.vx, r.vy)
-    info.iskick, info.isvalid, info.isstuck, info.isdribble = r.is_kick, r.is_valid, r.is_stuck, r.is_dribble
-    msg.robotinfo = [info]
-    return msg
-
-
 def goal_event_msg(goal: GoalScored) -> GoalEvent:
     msg = GoalEvent()
     msg.header.stamp = stamp(goal.time)
@@ -129,7 +82,7 @@ def kick_event_msg(kick: BallKicked) -> KickEvent:
     msg = KickEvent()
     msg.header.stamp = stamp(kick.time)
     msg.robot = kick.robot
-    msg.kind = kick.kind
+    msg.kind = int(kick.kind)
     msg.velocity = Point3d(*kick.velocity)
     msg.ball_pos = Point3d(*kick.position)
     return msg

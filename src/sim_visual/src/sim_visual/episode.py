@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from nubot_common.geometry import Pose2D
 from sim_visual.demo import DemoBehaviour, DemoParams, DemoPerception, DemoState
 from sim_visual.simulator import GoalScored, SimEvent, Simulator
 
@@ -44,10 +43,8 @@ def run_demo_episode(sim: Simulator, robot: str, params: DemoParams, duration: f
             next_vision += VISION_PERIOD
         if sim.time >= next_control:
             next_control += CONTROL_PERIOD
-            r = frame.robot
-            ball = (frame.ball.x, frame.ball.y) if frame.ball is not None else None
-            action, transitions = demo.step(DemoPerception(sim.time, Pose2D(r.x, r.y, r.theta), ball,
-                                                           sim.holder == robot))
+            ball = frame.ball.position if frame.ball is not None else None
+            action, transitions = demo.step(DemoPerception(sim.time, frame.robot.pose, ball, sim.holder == robot))
             log.transitions += [(sim.time, a.value, b.value) for a, b in transitions]
             sim.command_velocity(robot, action.vx, action.vy, action.w)
             if action.ball_handle is not None:

@@ -2,7 +2,9 @@
 
 Provides frozen, validated dataclasses; all values SI (m, kg, s, rad unless a
 name says ``_deg``). ``SimConfig`` is the whole configuration; ``PluginParams``
-and ``NoiseParams`` are the run-time reconfigurable part.
+and ``NoiseParams`` are the run-time reconfigurable part. The field, the goals and
+the bodies are the match's ``WorldDescription`` (``SimConfig.world``): the node
+reads it from /world, as every other node does.
 """
 
 from __future__ import annotations
@@ -11,44 +13,13 @@ import math
 from dataclasses import dataclass
 from dataclasses import field as dc_field
 
+from nubot_common import NubotCommonError
 from nubot_common.field import FieldGeometry
+from nubot_common.naming import parse_robot_name
 from nubot_common.params import require_non_negative, require_positive
+from nubot_common.world_description import BallBody, RobotBody, WorldDescription
 
 MAX_STEP_SIZE = 0.007  # [s], chapter Table 2
-
-
-@dataclass(frozen=True)
-class RobotBody:
-    """The robot model of chapter Table 1: a simplified cylinder, no joints."""
-
-    mass: float = 31.0  # [kg]
-    inertia_zz: float = 2.86  # [kg m^2]
-    friction: float = 0.1  # contact friction coefficient against ball and robots
-    radius: float = 0.26  # collision cylinder radius [m] (52 cm footprint, MSL maximum)
-    height: float = 0.75  # collision cylinder height [m]
-
-    def __post_init__(self) -> None:
-        require_positive(self, "mass", "inertia_zz", "radius", "height")
-        require_non_negative(self, "friction")
-
-
-@dataclass(frozen=True)
-class BallBody:
-    """A FIFA size 5 ball."""
-
-    mass: float = 0.41  # [kg]
-    radius: float = 0.11  # [m]
-    rolling_friction: float = 0.06  # rolling deceleration = rolling_friction * g
-    ground_friction: float = 0.4  # sliding friction against the carpet
-    restitution: float = 0.5  # bounce off the ground, robots and posts
-    net_restitution: float = 0.3  # share of the ball's motion a goal net keeps per step of contact
-
-    def __post_init__(self) -> None:
-        require_positive(self, "mass", "radius")
-        require_non_negative(self, "rolling_friction", "ground_friction")
-        for name in ("restitution", "net_restitution"):
-            if not 0.0 <= getattr(self, name) <= 1.0:
-                raise ValueError(f"{name} must lie in [0, 1], got {getattr(self, name)}")
 
 
 @dataclass(frozen=True)
@@ -121,31 +92,44 @@ class RobotSpawn:
     attack: int = 1
 
     def __post_init__(self) -> None:
-        if not self.name or not self.name.replace("_", "").isalnum():
-            raise ValueError(f"robot name must be alphanumeric, got {self.name!r}")
+        try:
+            parse_robot_name(self.name)
+        except NubotCommonError as exc:
+            raise ValueError(str(exc)) from None
         if self.attack not in (1, -1):
             raise ValueError(f"attack must be 1 or -1, got {self.attack}")
 
 
 @dataclass(frozen=True)
 class SimConfig:
-    field: FieldGeometry = dc_field(default_factory=FieldGeometry)
+    world: WorldDescription = dc_field(default_factory=WorldDescription)
     physics: PhysicsParams = dc_field(default_factory=PhysicsParams)
-    robot: RobotBody = dc_field(default_factory=RobotBody)
-    ball: BallBody = dc_field(default_factory=BallBody)
     plugin: PluginParams = dc_field(default_factory=PluginParams)
     noise: NoiseParams = dc_field(default_factory=NoiseParams)
     robots: tuple[RobotSpawn, ...] = ()
     ball_start: tuple[float, float] = (0.0, 0.0)  # [m]
-    ball_name: str = "football"
     seed: int = 0
 
     def __post_init__(self) -> None:
         names = [r.name for r in self.robots]
         if len(set(names)) != len(names):
             raise ValueError(f"robot names must be unique, got {names}")
-        if self.ball_name in names:
-            raise ValueError(f"ball name {self.ball_name!r} clashes with a robot name")
+
+    @property
+    def field(self) -> FieldGeometry:
+        return self.world.field
+
+    @property
+    def ball(self) -> BallBody:
+        return self.world.ball
+
+    @property
+    def robot(self) -> RobotBody:
+        return self.world.robot
+
+    @property
+    def ball_name(self) -> str:
+        return self.world.ball_name
 
 
 @dataclass(frozen=True)

@@ -10,6 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Generic, TypeVar
 
+from nubot_common.naming import team_of
+
 T = TypeVar("T")
 
 
@@ -21,7 +23,7 @@ class TeamRelay(Generic[T]):
     _latest: dict[str, tuple[float, T]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        foreign = [m for m in self.members if m.rstrip("0123456789") != self.team]
+        foreign = [m for m in self.members if team_of(m) != self.team]
         if foreign:
             raise ValueError(f"robots {foreign} are not members of team {self.team!r}")
 

@@ -9,27 +9,15 @@ outputs are world-frame, SI units.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
+from nubot_common.commands import BodyVelocity
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate
 from sim_visual import SimVisualError
 from sim_visual.params import PluginParams
 
-GROUND_PASS = -1
-LOB_SHOT = 1
 
-
-@dataclass(frozen=True)
-class VelocityCommand:
-    """A body-frame velocity command: forward, leftward [m/s], counter-clockwise [rad/s]."""
-
-    vx: float = 0.0
-    vy: float = 0.0
-    w: float = 0.0
-
-
-def clamp_command(vx: float, vy: float, w: float, params: PluginParams) -> tuple[VelocityCommand, bool]:
+def clamp_command(vx: float, vy: float, w: float, params: PluginParams) -> tuple[BodyVelocity, bool]:
     """Limit a command to the robot's speeds; return it and whether it had to be clamped.
 
     Raises ``SimVisualError`` for NaN or infinite components, which are never applied.
@@ -43,7 +31,7 @@ def clamp_command(vx: float, vy: float, w: float, params: PluginParams) -> tuple
         vx, vy, clamped = vx * scale, vy * scale, True
     if abs(w) > params.max_angular_speed:
         w, clamped = math.copysign(params.max_angular_speed, w), True
-    return VelocityCommand(vx, vy, w), clamped
+    return BodyVelocity(vx, vy, w), clamped
 
 
 def dribble_condition(robot: Pose2D, ball_x: float, ball_y: float, ball_z: float,

@@ -15,13 +15,14 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from nubot_common.geometry import Pose2D, rotate, wrap_angle
+from nubot_common.commands import BodyVelocity, KickKind
+from nubot_common.geometry import Pose2D, rotate
+from nubot_common.naming import parse_robot_name
+from nubot_common.percepts import RobotView
+from nubot_common.team_frame import TeamFrame
 from sim_visual import SimVisualError
 from sim_visual.params import NoiseParams, PluginParams, RobotSpawn, SimConfig
 from sim_visual.rules import (
-    GROUND_PASS,
-    LOB_SHOT,
-    VelocityCommand,
     clamp_command,
     dribble_condition,
     ground_pass_velocity,
@@ -29,7 +30,7 @@ from sim_visual.rules import (
     held_ball_velocity,
     lob_velocity,
 )
-from sim_visual.sensing import OmniVisionFrame, observe
+from sim_visual.sensing import RobotFlags, observe
 from sim_visual.world import BallState, PhysicsWorld, RobotState
 
 _KICK_FLAG_TIME = 0.2  # RobotInfo.iskick stays true this long after a kick [s]
@@ -50,7 +51,7 @@ class GoalScored:
 class BallKicked:
     time: float
     robot: str
-    kind: int  # GROUND_PASS or LOB_SHOT
+    kind: KickKind
     velocity: tuple[float, float, float]  # world frame [m/s]
     position: tuple[float, float, float]  # ball centre at the kick, world frame [m]
 
@@ -85,7 +86,7 @@ class RobotPlugin:
 
     spawn: RobotSpawn
     agent_id: int
-    command: VelocityCommand = VelocityCommand()
+    command: BodyVelocity = BodyVelocity()
     command_time: float = -math.inf
     dribble_enabled: bool = False
     no_capture_until: float = 0.0
@@ -94,16 +95,6 @@ class RobotPlugin:
     ground_velocity: tuple[float, float] = (0.0, 0.0)  # low-passed displacement rate [m/s]
     stuck: bool = False
     kicked_at: float = -math.inf
-
-
-def agent_id_of(name: str) -> int:
-    """The robot's ID from the digits its name ends with (``nubot3`` -> 3), 0 if none."""
-    digits = ""
-    for ch in reversed(name):
-        if not ch.isdigit():
-            break
-        digits = ch + digits
-    return int(digits) if digits else 0
 
 
 class Simulator:
@@ -133,7 +124,7 @@ class Simulator:
         if spawn.name in self.plugins or spawn.name == self.config.ball_name:
             raise SimVisualError(f"a model named {spawn.name!r} already exists")
         self.world.add_robot(spawn.name, spawn.x, spawn.y, spawn.theta)
-        self.plugins[spawn.name] = RobotPlugin(spawn, agent_id_of(spawn.name))
+        self.plugins[spawn.name] = RobotPlugin(spawn, parse_robot_name(spawn.name).agent_id)
 
     def delete_robot(self, name: str) -> None:
         self._plugin(name)
@@ -170,15 +161,17 @@ class Simulator:
         mirrored too and stops; start poses (``reset``) follow the new ends.
         """
         self._release()
+        turn = TeamFrame(-1)  # the half turn round the centre spot that takes one team's frame to the other's
         for name, plugin in self.plugins.items():
             s = self.world.robot_state(name)
-            self.world.set_robot_state(name, RobotState(-s.x, -s.y, wrap_angle(s.theta + math.pi), 0.0, 0.0, 0.0))
-            start = plugin.spawn
-            spawn = replace(start, x=-start.x, y=-start.y, theta=wrap_angle(start.theta + math.pi),
-                            attack=-start.attack)
+            now = turn.pose_to_world(Pose2D(s.x, s.y, s.theta))
+            self.world.set_robot_state(name, RobotState(now.x, now.y, now.theta, 0.0, 0.0, 0.0))
+            start = turn.pose_to_world(Pose2D(plugin.spawn.x, plugin.spawn.y, plugin.spawn.theta))
+            spawn = replace(plugin.spawn, x=start.x, y=start.y, theta=start.theta, attack=-plugin.spawn.attack)
             self.plugins[name] = RobotPlugin(spawn, plugin.agent_id, dribble_enabled=plugin.dribble_enabled)
         b = self.world.ball_state()
-        self.world.set_ball_state(BallState(-b.x, -b.y, max(b.z, self.config.ball.radius), 0.0, 0.0, 0.0))
+        bx, by = turn.point_to_world(b.x, b.y)
+        self.world.set_ball_state(BallState(bx, by, max(b.z, self.config.ball.radius), 0.0, 0.0, 0.0))
         self._goal_latched = False
 
     def model_states(self) -> list[tuple[str, RobotState | BallState]]:
@@ -202,7 +195,7 @@ class Simulator:
         self.world.set_robot_state(name, state)
 
     # --- the robot interface (Table 3) ------------------------------------------------------
-    def command_velocity(self, name: str, vx: float, vy: float, w: float) -> tuple[VelocityCommand, bool]:
+    def command_velocity(self, name: str, vx: float, vy: float, w: float) -> tuple[BodyVelocity, bool]:
         """Set a robot's body-frame velocity command; returns it (clamped) and whether it was clamped."""
         plugin = self._plugin(name)
         command, clamped = clamp_command(vx, vy, w, self.plugin_params)
@@ -223,14 +216,15 @@ class Simulator:
     def shoot(self, name: str, strength: float, shoot_pos: int) -> tuple[bool, BallKicked | None]:
         """Kick the held ball: -1 ground pass at ``strength`` m/s, 1 lob at the attacked goal."""
         plugin = self._plugin(name)
-        if shoot_pos not in (GROUND_PASS, LOB_SHOT):
+        if shoot_pos not in (KickKind.GROUND, KickKind.LOB):
             raise SimVisualError(f"ShootPos must be -1 (ground pass) or 1 (lob), got {shoot_pos}")
+        kind = KickKind(shoot_pos)
         if self.holder != name:
             return False, None
         robot = self.world.robot_state(name)
         pose = Pose2D(robot.x, robot.y, robot.theta)
         ball = self.world.ball_state()
-        if shoot_pos == GROUND_PASS:
+        if kind is KickKind.GROUND:
             velocity = ground_pass_velocity(robot.theta, strength, self.plugin_params)
         else:
             velocity = lob_velocity(pose, ball.x, ball.y, plugin.spawn.attack, self.config.field,
@@ -241,13 +235,13 @@ class Simulator:
         plugin.kicked_at = self.time
         vx, vy, vz = velocity
         r = self.config.ball.radius
-        if shoot_pos == GROUND_PASS:  # rolling from the start: no skid on the carpet
+        if kind is KickKind.GROUND:  # rolling from the start: no skid on the carpet
             kicked = replace(ball, vx=vx, vy=vy, vz=vz, wx=-vy / r, wy=vx / r, wz=0.0)
         else:  # leaves the carpet at once, so ground friction takes nothing from it
             kicked = replace(ball, z=r + _LOB_LIFT, vx=vx, vy=vy, vz=vz, wx=0.0, wy=0.0, wz=0.0)
         self.world.set_ball_state(kicked)
         self.last_touch = name
-        return True, BallKicked(self.time, name, shoot_pos, velocity, (kicked.x, kicked.y, kicked.z))
+        return True, BallKicked(self.time, name, kind, velocity, (kicked.x, kicked.y, kicked.z))
 
     def update_params(self, plugin: PluginParams | None = None, noise: NoiseParams | None = None) -> None:
         if plugin is not None:
@@ -256,15 +250,16 @@ class Simulator:
             self.noise = noise
 
     # --- perception -------------------------------------------------------------------------
-    def observe(self, name: str) -> OmniVisionFrame:
+    def observe(self, name: str) -> RobotView:
+        """What robot ``name``'s omni vision gives now: its percepts, in its team frame, with noise."""
         plugin = self._plugin(name)
         me = self.world.robot_state(name)
         others = [self.world.robot_state(n) for n in self.plugins if n != name]
         field, margin = self.config.field, self.config.field.border
-        flags = (field.is_inside(me.x, me.y, margin), plugin.stuck, self.holder == name,
-                 self.time - plugin.kicked_at < _KICK_FLAG_TIME)
-        return observe(self.time, me, plugin.spawn.attack, plugin.agent_id, flags, self.world.ball_state(),
-                       others, self.noise, self.rng)
+        flags = RobotFlags(field.is_inside(me.x, me.y, margin), plugin.stuck, self.holder == name,
+                           self.time - plugin.kicked_at < _KICK_FLAG_TIME)
+        return observe(self.time, me, TeamFrame(plugin.spawn.attack), plugin.agent_id, flags,
+                       self.world.ball_state(), others, self.noise, self.rng)
 
     # --- stepping -------------------------------------------------------------------------
     def step(self) -> list[SimEvent]:
@@ -275,7 +270,7 @@ class Simulator:
         for name, plugin in self.plugins.items():
             command = plugin.command
             if params.command_timeout > 0.0 and self.time - plugin.command_time > params.command_timeout:
-                command = VelocityCommand()
+                command = BodyVelocity()
             state = self.world.robot_state(name)
             vx, vy = rotate(command.vx, command.vy, state.theta)
             self.world.set_robot_velocity(name, vx, vy, command.w)
@@ -302,7 +297,7 @@ class Simulator:
             events.append(goal)
         return events
 
-    def _update_stuck(self, plugin: RobotPlugin, command: VelocityCommand, state: RobotState, dt: float) -> None:
+    def _update_stuck(self, plugin: RobotPlugin, command: BodyVelocity, state: RobotState, dt: float) -> None:
         # Displacement, not body velocity: a robot pressed against an obstacle keeps its commanded velocity.
         last, plugin.last_position = plugin.last_position, (state.x, state.y)
         if last is None:

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from sim_visual.rules import GROUND_PASS, LOB_SHOT
+from nubot_common.commands import KickKind
 
 MIN_PASS_STRENGTH = 1  # [m/s]; Shoot.strength is an integer, 0 would not move the ball
 MAX_PASS_STRENGTH = 12  # [m/s]; the simulator's kick_max_speed, faster kicks are clamped anyway
@@ -105,9 +105,9 @@ class KeyTeleop:
             self.dribbling = not self.dribbling
             ball_handle = 1 if self.dribbling else 0
         elif key == "p":
-            shoot = (self.pass_strength, GROUND_PASS)
+            shoot = (self.pass_strength, int(KickKind.GROUND))
         elif key == "l":
-            shoot = (0, LOB_SHOT)
+            shoot = (0, int(KickKind.LOB))
         elif key == "+":
             self.pass_strength = min(MAX_PASS_STRENGTH, self.pass_strength + PASS_STRENGTH_STEP)
         elif key == "-":

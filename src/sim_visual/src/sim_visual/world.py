@@ -17,8 +17,9 @@ import ode
 
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import quaternion_to_yaw, yaw_to_quaternion
+from nubot_common.world_description import BallBody, RobotBody
 from sim_visual import SimVisualError
-from sim_visual.params import BallBody, PhysicsParams, RobotBody
+from sim_visual.params import PhysicsParams
 
 _WALL_HEIGHT = 3.0  # arena walls keep lobs inside [m]
 _NET_THICKNESS = 0.02  # [m]

@@ -212,7 +212,7 @@ def test_stuck_robot_is_flagged(make_sim, run):
     for _ in range(400):
         sim.command_velocity("nubot1", 2.0, 0.0, 0.0)  # into the goal post/net
         sim.step()
-    assert sim.observe("nubot1").robot.is_stuck
+    assert sim.observe("nubot1").robot.stuck
 
 
 @pytest.mark.parametrize("speed", [4.0, 8.0, 12.0])
@@ -235,9 +235,9 @@ def test_ball_bounces_off_a_goal_post(make_sim, run):
 
 
 def test_larger_field_by_configuration(make_sim, run):
-    from nubot_common.field import FieldGeometry
+    from nubot_common.world_description import load_world
 
-    sim = make_sim(robots=(), field=FieldGeometry.msl_current())
+    sim = make_sim(robots=(), world=load_world("22x14"))
     sim.world.set_ball_state(BallState(9.5, 0.0, 0.11, 6.0, 0.0, 0.0, 0.0, 6.0 / 0.11, 0.0))
     goals = [e for e in run(sim, 2.0) if isinstance(e, GoalScored)]
     assert len(goals) == 1 and goals[0].ball.x > 11.0, "the goal line is at 11 m on a 22 m field"
@@ -266,8 +266,8 @@ def test_switching_ends_keeps_every_robot_where_it_was_in_its_own_team_frame(mak
     assert (ball.x, ball.y, ball.vx, ball.vy) == pytest.approx((-1.0, -2.0, 0.0, 0.0))
     for name, old in before.items():
         new = sim.observe(name)
-        assert (new.robot.x, new.robot.y) == pytest.approx((old.robot.x, old.robot.y), abs=0.15)
-        assert math.cos(new.robot.theta - old.robot.theta) > 0.99
+        assert (new.robot.pose.x, new.robot.pose.y) == pytest.approx((old.robot.pose.x, old.robot.pose.y), abs=0.15)
+        assert math.cos(new.robot.pose.theta - old.robot.pose.theta) > 0.99
         assert (new.ball.x, new.ball.y) == pytest.approx((old.ball.x, old.ball.y), abs=0.3), "the ball too"
     sim.reset()
     start = sim.world.robot_state("rival1")

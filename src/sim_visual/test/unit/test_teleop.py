@@ -5,12 +5,11 @@ import math
 import pytest
 
 from nubot_common import NubotCommonError
+from nubot_common.commands import KickKind
 from nubot_common.params import from_mapping
 from sim_visual.teleop import (
-    GROUND_PASS,
     HELP,
     KEYS,
-    LOB_SHOT,
     MAX_PASS_STRENGTH,
     MIN_PASS_STRENGTH,
     KeyTeleop,
@@ -122,14 +121,14 @@ def test_a_made_kick_turns_the_dribble_mode_off(teleop):
 
 def test_ground_pass_requests_a_shoot_at_the_pass_strength(teleop):
     action = teleop.handle("p")
-    assert action.shoot == (5, GROUND_PASS) == (5, -1)
+    assert action.shoot == (5, KickKind.GROUND) == (5, -1)
     assert action.ball_handle is None and not action.quit
 
 
 def test_lob_requests_a_shoot_at_the_goal(teleop):
     press(teleop, "+++")
     action = teleop.handle("l")
-    assert action.shoot == (0, LOB_SHOT) == (0, 1)
+    assert action.shoot == (0, KickKind.LOB) == (0, 1)
 
 
 def test_shoot_keys_keep_the_motion_command(teleop):
@@ -140,19 +139,19 @@ def test_shoot_keys_keep_the_motion_command(teleop):
 
 def test_pass_strength_steps_by_one(teleop):
     teleop.handle("+")
-    assert teleop.handle("p").shoot == (6, GROUND_PASS)
+    assert teleop.handle("p").shoot == (6, KickKind.GROUND)
     press(teleop, "--")
-    assert teleop.handle("p").shoot == (4, GROUND_PASS)
+    assert teleop.handle("p").shoot == (4, KickKind.GROUND)
 
 
 def test_pass_strength_is_bounded(teleop):
     action = press(teleop, "+" * 20)
     assert action.shoot is None
     assert teleop.pass_strength == MAX_PASS_STRENGTH == 12
-    assert teleop.handle("p").shoot == (12, GROUND_PASS)
+    assert teleop.handle("p").shoot == (12, KickKind.GROUND)
     press(teleop, "-" * 20)
     assert teleop.pass_strength == MIN_PASS_STRENGTH == 1
-    assert teleop.handle("p").shoot == (1, GROUND_PASS)
+    assert teleop.handle("p").shoot == (1, KickKind.GROUND)
 
 
 @pytest.mark.parametrize("key", ["x", "\x03"])

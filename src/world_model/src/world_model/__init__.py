@@ -1,11 +1,10 @@
 """One robot's world model (pure core; the ROS node lives in ``nodes/``).
 
-Modules: ``params`` (typed configuration), ``state`` (the plain data it takes and
-gives: reports, observations, the ``WorldState`` snapshot), ``ball_fusion`` (ball
-tracks, least-squares velocity, source choice, confidence), ``obstacles``
-(teammate/opponent labelling), ``game`` (coach commands, pass commands) and
-``world_model`` (the ``WorldModel`` agent tying them together). ``conversions``
-turns ROS messages into these types and back (the only module that knows both).
+Modules: ``params`` (typed configuration), ``ball_fusion`` (ball tracks, least-squares velocity,
+source choice, confidence), ``obstacles`` (teammate/opponent labelling), ``game`` (coach commands,
+the pass in force) and ``world_model`` (the ``WorldModel`` tying them together). What it takes
+and gives are the shared representations of ``nubot_common`` (``percepts``, ``team_play``,
+``world_state``); ``nubot_common.conversions`` turns the messages into them and back.
 """
 
 

@@ -1,6 +1,6 @@
 """Ball fusion: whose ball to believe, how fast it moves, how sure we are.
 
-Requires: ``BallObservation`` streams (own sensors, each teammate's reports), the
+Requires: ``BallPercept`` streams (own sensors, each teammate's reports), the
 observers' poses, ``WorldModelParams``. Provides: ``BallTrack`` (recent positions of
 one source, duplicates dropped), ``fit_velocity`` (least-squares line through the
 positions of the last ``velocity_window`` seconds, numpy.polyfit; the noisy per-frame
@@ -20,7 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from nubot_common.geometry import Pose2D
-from world_model.state import BallObservation, BallSource
+from nubot_common.percepts import BallPercept
+from nubot_common.world_state import BallSource
 
 _TIME_JUMP = 1.0  # an observation this much older than the newest one means the clock went back [s]
 
@@ -42,16 +43,16 @@ class BallTrack:
 
     def __init__(self, keep: float):
         self.keep = keep  # observations older than this behind the newest are dropped [s]
-        self._samples: deque[BallObservation] = deque()
+        self._samples: deque[BallPercept] = deque()
 
     def __len__(self) -> int:
         return len(self._samples)
 
     @property
-    def latest(self) -> BallObservation | None:
+    def latest(self) -> BallPercept | None:
         return self._samples[-1] if self._samples else None
 
-    def add(self, obs: BallObservation) -> None:
+    def add(self, obs: BallPercept) -> None:
         """Append ``obs``; a repeat (the relay resends the latest message) or a late one is ignored."""
         latest = self.latest
         if latest is not None and obs.stamp <= latest.stamp:
@@ -80,7 +81,7 @@ class BallCandidate:
 
     agent_id: int
     source: BallSource
-    observation: BallObservation
+    observation: BallPercept
     observer: Pose2D  # the observing robot's pose
     age: float  # [s]
 

@@ -3,8 +3,8 @@
 Requires: the coach's raw ``MatchMode`` / ``MatchType`` values (number, name or one
 ``char`` byte) and ``CoachExtras``; the team's ``StrategyReport``s. Provides:
 ``parse_coach_command`` (a ``CoachCommand``, or ``WorldModelError`` naming the unknown
-value and the field it came in), ``next_game_state`` (keeps ``since`` while the mode
-repeats; the coach resends every 30 ms) and ``select_pass`` (the valid pass command
+value and the field it came in), ``next_game_state`` (keeps ``since`` while the command
+repeats: the coach resends every 30 ms) and ``select_pass`` (the valid pass command
 in force: fresh, both AgentIDs in the team; one involving this robot first, then the
 newest, then the lowest sender ID). Times [s].
 """
@@ -15,8 +15,9 @@ from collections.abc import Sequence
 
 from nubot_common import NubotCommonError
 from nubot_common.match_mode import MatchMode, parse_match_mode
+from nubot_common.team_play import PassCommand, StrategyReport
+from nubot_common.world_state import CoachCommand, CoachExtras, GameState
 from world_model import WorldModelError
-from world_model.state import CoachCommand, CoachExtras, GameState, PassCommand, StrategyReport
 
 
 def _parse(value: int | str | bytes, field_name: str) -> MatchMode:
@@ -34,7 +35,8 @@ def parse_coach_command(mode: int | str | bytes, match_type: int | str | bytes =
 
 def next_game_state(state: GameState, t: float, command: CoachCommand) -> GameState:
     """The game state after ``command`` arrived at ``t``."""
-    since = state.since if command.mode == state.mode and state.stamp > float("-inf") else t
+    same = (command.mode, command.previous) == (state.mode, state.previous)
+    since = state.since if same and state.stamp > float("-inf") else t
     return GameState(command, since, t)
 
 

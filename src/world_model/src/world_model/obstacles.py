@@ -15,7 +15,8 @@ import math
 from collections.abc import Mapping, Sequence
 
 from nubot_common.geometry import Pose2D
-from world_model.state import LabelledObstacle, ObstacleLabel, Point
+from nubot_common.team_play import Point
+from nubot_common.world_state import LabelledObstacle, ObstacleLabel
 
 
 def _near(p: Point, points: Sequence[Point], radius: float) -> bool:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 class WorldModelParams:
     team_size: int = 5  # robots per team; AgentIDs run 1..team_size
     teammate_timeout: float = 0.3  # a robot whose state is older than this is invalid [s] (NuBot: 300 ms)
+    strategy_timeout: float = 1.0  # a teammate whose strategy is older than this no longer plays [s]
     ball_timeout: float = 0.3  # own perception (ball, obstacles) older than this is not used [s]
     velocity_window: float = 0.5  # ball positions this recent enter the velocity fit [s]
     min_fit_samples: int = 3  # fewer positions in the window: ball velocity unknown
@@ -25,7 +26,7 @@ class WorldModelParams:
     def __post_init__(self) -> None:
         if not 1 <= self.team_size <= 99:
             raise ValueError(f"team_size must lie in [1, 99], got {self.team_size}")
-        for name in ("teammate_timeout", "ball_timeout", "velocity_window", "teammate_radius",
+        for name in ("teammate_timeout", "strategy_timeout", "ball_timeout", "velocity_window", "teammate_radius",
                      "obstacle_merge_radius", "ball_agreement_radius"):
             if not getattr(self, name) > 0.0:
                 raise ValueError(f"{name} must be positive, got {getattr(self, name)}")

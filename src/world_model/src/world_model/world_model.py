@@ -1,44 +1,39 @@
 """The world model of one robot (chapter 4.5): own perception + teammates + coach in one team-frame view.
 
 Requires, as they arrive (sim time t [s], team frame):
-  ``on_vision(t, robot, ball, obstacles)``   own self-localization, ball and obstacles (OmniVisionInfo);
-  ``on_teammate(t, view)``                   a teammate's shared state (TeamMessage via the relay);
+  ``on_vision(frame)``                       own percepts (``RobotView``: self-localization, ball, obstacles);
+  ``on_teammate(t, view)``                   a teammate's packet (TeamMessage via the team link);
   ``on_coach(t, mode, match_type, extras)``  a game command (CoachInfo); unknown values raise;
-  ``on_strategy(t, strategy)``               this robot's strategy (role, targets, pass command);
-  ``on_teammate_strategy(t, strategy)``      a teammate's strategy (its pass command).
-Provides: ``snapshot(t)`` -> ``WorldState`` (robots by AgentID with validity, fused ball,
-labelled obstacles, game state, pass command) and ``own_view(t)`` -> the ``RobotView``
-this robot shares with its teammates. Parameters: ``WorldModelParams``.
-Rules: a robot (this one included) whose state is older than ``teammate_timeout`` or
-reported invalid is invalid; own perception older than ``ball_timeout`` is not used;
-the ball comes from own sensors first, else from the valid teammate nearest to its ball.
+  ``on_strategy(t, report)``                 this robot's strategy (role, targets, pass command, target);
+  ``on_teammate_strategy(t, report)``        a teammate's strategy (its pass command; that it still plays).
+Provides: ``snapshot(t)`` -> ``WorldState`` (robots by AgentID with validity, fused ball, labelled
+obstacles, game state with the time the command came into force, the pass in force) and
+``own_view(t)`` -> the ``RobotView`` this robot shares with its teammates.
+Parameters: ``WorldModelParams`` and the match's ``WorldDescription`` (the field).
+Rules: a robot (this one included) is valid while its state is fresh (``teammate_timeout``), it
+reports itself valid and stands on the field (lines plus border); a teammate also stops being valid
+when its strategy falls silent for ``strategy_timeout`` while the team's strategies are heard (its
+control stopped: the others take over its role). Own perception older than ``ball_timeout`` is not
+used; a ball seen outside the field plus border is a false detection. The ball comes from own
+sensors first, else from the valid teammate nearest to its ball; a ball no valid robot sees is not
+known and stays where it was last seen.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import replace
 
 from nubot_common.geometry import Pose2D
+from nubot_common.percepts import BallPercept, RobotReport, RobotView
+from nubot_common.team_play import Point, StrategyReport
+from nubot_common.world_description import WorldDescription
+from nubot_common.world_state import BallSource, CoachExtras, FusedBall, GameState, Teammate, WorldState
 from world_model import WorldModelError
 from world_model.ball_fusion import BallCandidate, BallTrack, agreeing, ball_confidence, choose_ball
 from world_model.game import next_game_state, parse_coach_command, select_pass
 from world_model.obstacles import label_obstacles
 from world_model.params import WorldModelParams
-from world_model.state import (
-    BallObservation,
-    BallSource,
-    CoachExtras,
-    FusedBall,
-    GameState,
-    Point,
-    RobotReport,
-    RobotView,
-    StrategyReport,
-    Teammate,
-    WorldState,
-)
 
 _TIME_JUMP = 1.0  # the clock going back by more than this means a restarted simulation: forget everything [s]
 
@@ -46,11 +41,12 @@ _TIME_JUMP = 1.0  # the clock going back by more than this means a restarted sim
 class WorldModel:
     """One robot's world model: feed it with the ``on_*`` methods, read it with ``snapshot``."""
 
-    def __init__(self, params: WorldModelParams, agent_id: int):
+    def __init__(self, params: WorldModelParams, agent_id: int, world: WorldDescription | None = None):
         if not 1 <= agent_id <= params.team_size:
             raise WorldModelError(f"agent_id must lie in 1..{params.team_size}, got {agent_id}")
         self.params = params
         self.agent_id = agent_id
+        self.world = world or WorldDescription()
         self._keep = max(params.velocity_window, params.ball_timeout) + 0.1  # history kept per ball track [s]
         self._clock = -math.inf
         self._game = GameState()
@@ -77,13 +73,20 @@ class WorldModel:
             raise WorldModelError(f"{what}: AgentID {agent_id} outside 1..{self.params.team_size}")
         return agent_id
 
+    def _on_field(self, x: float, y: float) -> bool:
+        field = self.world.field
+        return field.is_inside(x, y, field.border)
+
+    def _plausible(self, ball: BallPercept | None) -> BallPercept | None:
+        return ball if ball is not None and self._on_field(ball.x, ball.y) else None
+
     # --- inputs ---------------------------------------------------------------------------
-    def on_vision(self, t: float, robot: RobotReport, ball: BallObservation | None,
-                  obstacles: Sequence[Point] = ()) -> None:
-        """Own perception of the frame taken at ``t``; ``ball`` None when the ball is not seen."""
-        self._note_time(t)
-        robot = replace(robot, agent_id=self.agent_id)  # the sender's ID field may be unset on a real robot
-        self._vision = RobotView(t, robot, ball, tuple(obstacles))
+    def on_vision(self, frame: RobotView) -> None:
+        """Own percepts of the frame taken at ``frame.stamp``; ``frame.ball`` None when the ball is not seen."""
+        self._note_time(frame.stamp)
+        robot = replace(frame.robot, agent_id=self.agent_id)  # the sender's ID field may be unset on a real robot
+        ball = self._plausible(frame.ball)
+        self._vision = replace(frame, robot=robot, ball=ball)
         if ball is not None:
             self._own_track.add(ball)
 
@@ -98,7 +101,7 @@ class WorldModel:
         previous = self._mates.get(aid)
         if previous is not None and previous.stamp - _TIME_JUMP <= stamp < previous.stamp:
             return False
-        ball = view.ball
+        ball = self._plausible(view.ball)
         if ball is not None and ball.stamp <= 0.0:
             ball = replace(ball, stamp=stamp)
         self._mates[aid] = replace(view, stamp=stamp, ball=ball)
@@ -122,7 +125,7 @@ class WorldModel:
         self._strategy = replace(strategy, agent_id=self.agent_id, stamp=strategy.stamp if strategy.stamp > 0 else t)
 
     def on_teammate_strategy(self, t: float, strategy: StrategyReport) -> bool:
-        """A teammate's strategy received at ``t`` (for its pass command); False for this robot's own."""
+        """A teammate's strategy received at ``t`` (its pass command; that it plays); False for this robot's own."""
         if strategy.agent_id == self.agent_id:
             return False
         self._teammate_id(strategy.agent_id, "teammate strategy")
@@ -145,6 +148,13 @@ class WorldModel:
                              static_pass=s.static_pass, static_catch=s.static_catch, target=s.target)
         return report
 
+    def _playing(self, t: float, agent_id: int) -> bool:
+        """A teammate plays unless its strategy fell silent while others' are heard (its control stopped)."""
+        if agent_id == self.agent_id or not self._mate_strategies:
+            return True
+        strategy = self._mate_strategies.get(agent_id)
+        return strategy is not None and t - strategy.stamp <= self.params.strategy_timeout
+
     def _robot(self, t: float, agent_id: int) -> Teammate:
         if agent_id == self.agent_id:
             report, stamp = self._own_report(), self._vision.stamp if self._vision else -math.inf
@@ -152,10 +162,11 @@ class WorldModel:
             view = self._mates.get(agent_id)
             report, stamp = (view.robot, view.stamp) if view else (None, -math.inf)
         age = max(0.0, t - stamp)
-        valid = report is not None and report.valid and age <= self.params.teammate_timeout
+        valid = (report is not None and report.valid and age <= self.params.teammate_timeout
+                 and self._on_field(report.pose.x, report.pose.y) and self._playing(t, agent_id))
         return Teammate(agent_id, valid, age, report)
 
-    def _own_ball(self, t: float) -> BallObservation | None:
+    def _own_ball(self, t: float) -> BallPercept | None:
         latest = self._own_track.latest
         if latest is None or t - latest.stamp > self.params.ball_timeout:
             return None
@@ -163,7 +174,7 @@ class WorldModel:
         vx, vy = velocity or (0.0, 0.0)
         return replace(latest, vx=vx, vy=vy, velocity_known=velocity is not None)
 
-    def _mate_ball(self, t: float, agent_id: int) -> BallObservation | None:
+    def _mate_ball(self, t: float, agent_id: int) -> BallPercept | None:
         view = self._mates.get(agent_id)
         if view is None or view.ball is None or t - view.ball.stamp > self.params.ball_timeout:
             return None
@@ -191,8 +202,8 @@ class WorldModel:
         own_ball = team_balls[self.agent_id - 1]
         own = (BallCandidate(self.agent_id, BallSource.OWN, own_ball, me_pose, max(0.0, t - own_ball.stamp))
                if own_ball is not None else None)
-        team = [BallCandidate(m.agent_id, BallSource.TEAMMATE, ball, m.report.pose, max(0.0, t - ball.stamp))
-                for m in mates if (ball := team_balls[m.agent_id - 1]) is not None and m.report is not None]
+        team = [BallCandidate(m.agent_id, BallSource.TEAMMATE, seen, m.report.pose, max(0.0, t - seen.stamp))
+                for m in mates if (seen := team_balls[m.agent_id - 1]) is not None and m.report is not None]
         ball = self._fuse_ball(choose_ball(own, team), [c for c in (own, *team) if c is not None], me_pose)
         vision = self._vision
         own_obstacles = vision.obstacles if vision is not None and t - vision.stamp <= p.ball_timeout else ()
@@ -208,10 +219,8 @@ class WorldModel:
     def _fuse_ball(self, chosen: BallCandidate | None, candidates: list[BallCandidate], me: Pose2D) -> FusedBall:
         p = self.params
         if chosen is None:
-            if self._last_ball is None:
-                return FusedBall(known=False)
-            x, y = self._last_ball
-            return FusedBall(False, x, y, angle=me.bearing_to(x, y), radius=me.distance_to(x, y))
+            x, y = self._last_ball if self._last_ball is not None else (0.0, 0.0)
+            return FusedBall(x, y, known=False, angle=me.bearing_to(x, y), radius=me.distance_to(x, y))
         obs = chosen.observation
         if chosen.source is BallSource.OWN:
             velocity = (obs.vx, obs.vy) if obs.velocity_known else None  # already fitted by _own_ball
@@ -223,7 +232,7 @@ class WorldModel:
         vx, vy = velocity or (0.0, 0.0)
         seen_by = agreeing(candidates, obs.x, obs.y, p.ball_agreement_radius)
         self._last_ball = (obs.x, obs.y)
-        return FusedBall(True, obs.x, obs.y, vx, vy, velocity is not None,
+        return FusedBall(obs.x, obs.y, vx, vy, True, velocity is not None,
                          ball_confidence(chosen.age, len(seen_by), p.ball_timeout, p.sighting_confidence),
                          seen_by, chosen.source, chosen.agent_id, obs.stamp,
                          me.bearing_to(obs.x, obs.y), me.distance_to(obs.x, obs.y))

@@ -3,8 +3,8 @@
 import pytest
 
 from nubot_common.geometry import Pose2D
+from nubot_common.percepts import BallPercept, RobotReport, RobotView
 from world_model.params import WorldModelParams
-from world_model.state import BallObservation, RobotReport, RobotView
 from world_model.world_model import WorldModel
 
 
@@ -29,7 +29,7 @@ def mate_view(robot):
     """A teammate's message stamped ``t``: its pose, optionally the ball it sees and its obstacles."""
     def build(t: float, agent_id: int, x: float, y: float, ball: tuple[float, float] | None = None,
               obstacles: tuple = (), **fields) -> RobotView:
-        seen = BallObservation(t, *ball) if ball is not None else None
+        seen = BallPercept(t, *ball) if ball is not None else None
         return RobotView(t, robot(agent_id, x, y, **fields), seen, tuple(obstacles))
     return build
 
@@ -38,6 +38,6 @@ def mate_view(robot):
 def see(robot):
     """Feed ``model`` one own vision frame at ``t``: own pose, the ball (or None), obstacles."""
     def feed(model: WorldModel, t: float, pose=(-2.0, 0.0, 0.0), ball=(1.0, 2.0), obstacles=(), **fields) -> None:
-        seen = BallObservation(t, *ball) if ball is not None else None
-        model.on_vision(t, robot(model.agent_id, *pose, **fields), seen, obstacles)
+        seen = BallPercept(t, *ball) if ball is not None else None
+        model.on_vision(RobotView(t, robot(model.agent_id, *pose, **fields), seen, tuple(obstacles)))
     return feed

@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from nubot_common.geometry import Pose2D
+from nubot_common.percepts import BallPercept
+from nubot_common.world_state import BallSource
 from world_model.ball_fusion import BallCandidate, BallTrack, ball_confidence, choose_ball, fit_velocity
-from world_model.state import BallObservation, BallSource
 
 RATE = 30.0  # vision frames per second
 
@@ -18,7 +19,7 @@ def _noisy_track(velocity, duration, position_std, velocity_std, seed):
         t = 10.0 + k / RATE
         x, y = 1.0 + velocity[0] * (t - 10.0), 2.0 + velocity[1] * (t - 10.0)
         nx, ny, nvx, nvy = rng.normal(size=4)
-        track.add(BallObservation(t, x + position_std * nx, y + position_std * ny,
+        track.add(BallPercept(t, x + position_std * nx, y + position_std * ny,
                                   velocity[0] + velocity_std * nvx, velocity[1] + velocity_std * nvy, True))
     return track
 
@@ -41,9 +42,9 @@ def test_velocity_fit_recovers_a_constant_velocity_from_noisy_positions(seed):
 def test_the_fit_uses_only_the_window():
     track = BallTrack(keep=5.0)
     for k in range(30):  # at rest for 1 s, then rolling at 2 m/s along x for 0.3 s
-        track.add(BallObservation(k / RATE, 0.0, 0.0))
+        track.add(BallPercept(k / RATE, 0.0, 0.0))
     for k in range(1, 10):
-        track.add(BallObservation(1.0 + k / RATE, 2.0 * k / RATE, 0.0))
+        track.add(BallPercept(1.0 + k / RATE, 2.0 * k / RATE, 0.0))
     assert track.velocity(window=0.25, min_samples=3) == pytest.approx((2.0, 0.0), abs=1e-9)
 
 
@@ -56,18 +57,18 @@ def test_too_few_or_simultaneous_positions_give_no_velocity():
 def test_track_drops_repeats_keeps_a_short_history_and_restarts_when_the_clock_goes_back():
     track = BallTrack(keep=0.4)
     for k in range(20):
-        obs = BallObservation(k * 0.1, float(k), 0.0)
+        obs = BallPercept(k * 0.1, float(k), 0.0)
         track.add(obs)
         track.add(obs)  # the relay resends the latest message
     assert len(track) == 5 and track.latest.x == 19.0
-    track.add(BallObservation(1.85, 5.0, 5.0))  # late: ignored
+    track.add(BallPercept(1.85, 5.0, 5.0))  # late: ignored
     assert track.latest.x == 19.0 and len(track) == 5
-    track.add(BallObservation(0.1, 7.0, 7.0))  # the simulation restarted
+    track.add(BallPercept(0.1, 7.0, 7.0))  # the simulation restarted
     assert len(track) == 1 and track.latest.x == 7.0
 
 
 def _candidate(agent_id, observer, ball, age=0.0, source=BallSource.TEAMMATE):
-    return BallCandidate(agent_id, source, BallObservation(10.0 - age, *ball), Pose2D(*observer), age)
+    return BallCandidate(agent_id, source, BallPercept(10.0 - age, *ball), Pose2D(*observer), age)
 
 
 def test_own_ball_is_preferred_even_when_a_teammate_is_nearer():

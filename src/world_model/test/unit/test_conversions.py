@@ -1,4 +1,4 @@
-"""Unit tests of the message conversions (world_model.conversions): no ROS master, real generated messages."""
+"""The world model's messages (nubot_common.conversions): no ROS master, real generated messages."""
 
 import io
 import math
@@ -8,6 +8,8 @@ import pytest
 import yaml
 from genpy.message import fill_message_args
 
+from nubot_common import NubotCommonError
+from nubot_common import conversions as conv
 from nubot_common.msg import (
     BallInfo,
     CoachInfo,
@@ -16,13 +18,13 @@ from nubot_common.msg import (
     PPoint,
     RobotInfo,
     StrategyInfo,
+    TargetInfo,
     TeamMessage,
     TeamMessages,
     WorldModelInfo,
 )
-from world_model import WorldModelError
-from world_model import conversions as conv
-from world_model.state import BallSource, ObstacleLabel, PassCommand, StrategyReport
+from nubot_common.team_play import PassCommand, StrategyReport
+from nubot_common.world_state import BallSource, ObstacleLabel
 
 CHAPTER_COMMAND = "\nMatchMode: 10\nMatchType: 0 "  # the chapter's rostopic pub argument, as printed
 
@@ -38,7 +40,7 @@ def _round_trip(msg):
 def test_the_chapter_coach_command_fills_a_coach_info_the_world_model_accepts(make_model):
     msg = CoachInfo()
     fill_message_args(msg, [yaml.safe_load(CHAPTER_COMMAND)])  # what rostopic pub does with it
-    mode, match_type, extras = conv.coach_inputs(_round_trip(msg))
+    mode, match_type, extras = conv.coach_fields(_round_trip(msg))
     assert (mode, match_type) == (10, 0)
     model = make_model()
     model.on_coach(1.0, mode, match_type, extras)
@@ -48,7 +50,7 @@ def test_the_chapter_coach_command_fills_a_coach_info_the_world_model_accepts(ma
 def test_coach_info_test_fields_are_read():
     msg = CoachInfo(MatchMode=27, MatchType=15, TestMode=3, pointA=Point2d(1.0, 2.0), angleB=-45, idA=2,
                     kickforce=5)
-    mode, match_type, extras = conv.coach_inputs(_round_trip(msg))
+    mode, match_type, extras = conv.coach_fields(_round_trip(msg))
     assert (mode, match_type, extras.test_mode, extras.point_a, extras.angle_b, extras.id_a, extras.kickforce) == \
         (27, 15, 3, (1.0, 2.0), -45, 2, 5)
 
@@ -58,30 +60,38 @@ def _vision_msg(t=12.5, ball=True):
     msg.header.stamp = genpy.Time.from_sec(t)
     if ball:
         msg.ballinfo = BallInfo(ballinfostate=1, pos=Point2d(1.0, 2.0), real_pos=PPoint(0.6, 3.6),
-                                velocity=Point2d(0.3, 0.0), pos_known=True, velocity_known=True)
+                                velocity=Point2d(0.375, 0.0), pos_known=True, velocity_known=True)
     msg.obstacleinfo.pos = [Point2d(0.0, 2.0), Point2d(4.0, -1.0)]
-    me = RobotInfo(AgentID=1, pos=Point2d(-2.0, 0.0), vtrans=Point2d(0.5, 0.0), vrot=0.1, isvalid=True,
+    me = RobotInfo(AgentID=1, pos=Point2d(-2.0, 0.0), vtrans=Point2d(0.5, 0.0), vrot=0.125, isvalid=True,
                    isdribble=False)
     me.heading.theta = 0.25
     msg.robotinfo = [me]
     return msg
 
 
-def test_vision_frame_becomes_the_on_vision_arguments():
-    t, robot, ball, obstacles = conv.vision_inputs(_vision_msg(), now=99.0)
-    assert t == 12.5 and robot.agent_id == 1 and robot.valid
+def test_vision_frame_becomes_the_robot_view():
+    frame = conv.robot_view(_vision_msg(), now=99.0)
+    robot, ball = frame.robot, frame.ball
+    assert frame.stamp == 12.5 and robot.agent_id == 1 and robot.valid
     assert (robot.pose.x, robot.pose.y, robot.pose.theta) == pytest.approx((-2.0, 0.0, 0.25))
     assert (ball.stamp, ball.x, ball.y) == (12.5, 1.0, 2.0), "unstamped BallInfo: the frame's time"
-    assert obstacles == [(0.0, 2.0), (4.0, -1.0)]
-    t, _, ball, _ = conv.vision_inputs(_vision_msg(t=0.0, ball=False), now=99.0)
-    assert t == 99.0 and ball is None
+    assert frame.obstacles == ((0.0, 2.0), (4.0, -1.0))
+    frame = conv.robot_view(_vision_msg(t=0.0, ball=False), now=99.0)
+    assert frame.stamp == 99.0 and frame.ball is None
 
 
 def test_vision_frame_without_the_robot_itself_is_refused():
     msg = _vision_msg()
     msg.robotinfo = []
-    with pytest.raises(WorldModelError, match=r"without robotinfo\[0\]"):
-        conv.vision_inputs(msg, 0.0)
+    with pytest.raises(NubotCommonError, match=r"without robotinfo\[0\]"):
+        conv.robot_view(msg, 0.0)
+
+
+def test_a_frame_published_as_omni_vision_info_reads_back_the_same(make_model):
+    frame = conv.robot_view(_vision_msg(), now=99.0)
+    again = conv.robot_view(_round_trip(conv.omni_vision_msg(frame)), now=0.0)
+    assert again.stamp == frame.stamp and again.robot == frame.robot, "the values are exact in float32"
+    assert again.ball == frame.ball and again.obstacles == frame.obstacles
 
 
 def _fed_model(make_model, see, mate_view):
@@ -128,21 +138,23 @@ def test_team_message_round_trips_into_the_teammate_view(make_model, see, mate_v
     assert isinstance(msg, TeamMessage) and msg.header.stamp.to_sec() == pytest.approx(10.02)
     assert msg.robot.header.stamp.to_sec() == pytest.approx(10.0), "stamped with the vision frame's time"
     assert (msg.ball.ballinfostate, msg.ball.pos_known) == (BallSource.OWN, True)
-    (back,) = conv.teammate_views(TeamMessages(messages=[msg]))
+    (back,) = conv.team_views(TeamMessages(messages=[msg]))
     assert back.stamp == pytest.approx(10.0) and back.robot.agent_id == 1 and back.robot.role == 0
     assert (back.ball.x, back.ball.y) == pytest.approx((1.0, 2.0))
     assert [c for p in back.obstacles for c in p] == pytest.approx([0.0, 2.1, 4.0, -1.0])
 
 
 def test_strategy_info_becomes_a_strategy_report():
-    msg = StrategyInfo(AgentID=2, targetNum1=2, role=9, role_time=3.0, staticpassNum=4, staticcatchNum=2,
-                       target=Point2d(3.5, -1.0))
+    msg = StrategyInfo(AgentID=2, targetNum1=2, role=9, role_time=3.0, staticpassNum=4, staticcatchNum=2)
     msg.header.stamp = genpy.Time.from_sec(5.0)
     msg.pass_cmd.pass_id, msg.pass_cmd.catch_id, msg.pass_cmd.is_valid = 4, 2, True
-    report = conv.strategy_report(_round_trip(msg))
+    target = conv.target_of(_round_trip(TargetInfo(target=[Point2d(3.5, -1.0)])))
+    report = conv.strategy_report(_round_trip(msg), target)
     assert (report.stamp, report.agent_id, report.role, report.role_time) == (5.0, 2, 9, pytest.approx(3.0))
     assert (report.static_pass, report.static_catch, report.target_nums) == (4, 2, (2, 0, 0, 0))
     assert report.target == pytest.approx((3.5, -1.0))
     assert report.pass_cmd.is_valid and (report.pass_cmd.pass_id, report.pass_cmd.catch_id) == (4, 2)
+    again = conv.strategy_report(_round_trip(conv.strategy_info_msg(report)), report.target)
+    assert again == report
     msg.role = 300
     assert conv.strategy_report(msg).role == 8, "not a char: NOROLE"

@@ -3,9 +3,10 @@
 import pytest
 
 from nubot_common.match_mode import MatchMode
+from nubot_common.team_play import PassCommand, StrategyReport
+from nubot_common.world_state import CoachExtras, GameState
 from world_model import WorldModelError
 from world_model.game import next_game_state, parse_coach_command, select_pass
-from world_model.state import CoachExtras, GameState, PassCommand, StrategyReport
 
 
 def test_the_chapter_command_parses_with_its_previous_mode():

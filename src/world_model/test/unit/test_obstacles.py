@@ -5,8 +5,8 @@ import math
 import pytest
 
 from nubot_common.geometry import Pose2D
+from nubot_common.world_state import ObstacleLabel
 from world_model.obstacles import label_obstacles
-from world_model.state import ObstacleLabel
 
 ME = Pose2D(-2.0, 0.0, 0.0)
 

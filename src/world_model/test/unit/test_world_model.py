@@ -2,8 +2,10 @@
 
 import pytest
 
+from nubot_common.percepts import BallPercept, RobotView
+from nubot_common.team_play import StrategyReport
+from nubot_common.world_state import BallSource
 from world_model import WorldModelError
-from world_model.state import BallObservation, BallSource, StrategyReport
 
 
 def test_own_ball_is_preferred_and_teammates_agreeing_raise_the_confidence(make_model, see, mate_view):
@@ -77,7 +79,7 @@ def test_own_ball_velocity_is_fitted_not_taken_from_the_frame(make_model, robot)
     for k in range(10):
         t = 10.0 + k / 30.0
         # Positions roll at 1 m/s along +x; the per-frame velocity claims 5 m/s sideways.
-        model.on_vision(t, robot(1, 0.0, 0.0), BallObservation(t, 1.0 * k / 30.0, 0.0, 0.0, 5.0, True))
+        model.on_vision(RobotView(t, robot(1, 0.0, 0.0), BallPercept(t, 1.0 * k / 30.0, 0.0, 0.0, 5.0, True)))
     ball = model.snapshot(10.3).ball
     assert ball.velocity_known and (ball.vx, ball.vy) == pytest.approx((1.0, 0.0), abs=1e-6)
 
@@ -144,3 +146,33 @@ def test_a_clock_going_back_forgets_everything_but_the_game(make_model, see, mat
     state = model.snapshot(0.1)
     assert not state.ball.known and not state.robots[1].valid and state.robots[1].report is None
     assert state.game.mode == 15
+
+
+def test_a_teammate_whose_strategy_falls_silent_no_longer_plays(make_model, see, mate_view):
+    """Its world model still talks, but its control stopped: the others take over its role."""
+    model = make_model(agent_id=1)
+    valid_at = {}
+    for k in range(60):
+        t = 10.0 + k / 30.0
+        see(model, t, ball=None)
+        for mate in (2, 3):
+            model.on_teammate(t, mate_view(t, mate, 0.0, float(mate)))
+        model.on_teammate_strategy(t, StrategyReport(min(t, 10.5), 2))  # 2's control stops at 10.5 s
+        model.on_teammate_strategy(t, StrategyReport(t, 3))
+        valid_at[round(t, 2)] = [r.valid for r in model.snapshot(t).robots[1:3]]
+    assert valid_at[11.4] == [True, True], "0.9 s of silence: within strategy_timeout"
+    assert valid_at[11.97] == [False, True], "1.47 s of silence: 2 no longer plays, though its state is fresh"
+    before = make_model(agent_id=1)
+    see(before, 10.0, ball=None)
+    before.on_teammate(10.0, mate_view(10.0, 2, 0.0, 2.0))
+    assert before.snapshot(10.0).robots[1].valid, "no strategy heard at all (e.g. other nodes): everyone plays"
+
+
+def test_balls_and_robots_off_the_field_are_not_believed(make_model, see, mate_view):
+    model = make_model(agent_id=1)  # the 18 x 12 field: lines at |x| 9, |y| 6, a 1 m border
+    see(model, 10.0, ball=(10.5, 0.0))
+    assert not model.snapshot(10.0).ball.known, "a ball 1.5 m behind the goal line is a false detection"
+    see(model, 10.1, ball=(9.8, 6.8))
+    assert model.snapshot(10.1).ball.known, "on the border: it can be there"
+    model.on_teammate(10.1, mate_view(10.1, 2, 0.0, 7.5))
+    assert not model.snapshot(10.1).robots[1].valid, "a teammate reporting itself 1.5 m off the field is lost"

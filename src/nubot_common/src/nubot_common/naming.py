@@ -1,0 +1,58 @@
+"""Robot and team names: ``<team prefix><AgentID>``, e.g. ``rival3`` is AgentID 3 of team ``rival``.
+
+Provides: ``RobotName`` (team, agent_id; ``str()`` gives the model name back), ``parse_robot_name``
+(raises ``NubotCommonError`` naming the bad name), ``team_of`` (a model name's team, or the
+name itself for a model that is no robot, e.g. ``football``), ``is_robot_name`` and
+``check_team_prefix``. The model name prefixes every topic and service of its robot in
+simulation (``/rival3/nubotcontrol/velcmd``); the team prefix names the team's namespace
+(``/rival/receive_from_coach``).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from nubot_common import NubotCommonError
+
+_PREFIX = re.compile(r"[A-Za-z_]+")
+_ROBOT = re.compile(r"(?P<team>[A-Za-z_]+)(?P<number>[0-9]+)")
+
+
+def check_team_prefix(prefix: str) -> str:
+    """Return ``prefix`` if it can name a team (letters and underscores); else raise ``NubotCommonError``."""
+    if not isinstance(prefix, str) or not _PREFIX.fullmatch(prefix):
+        raise NubotCommonError(f"a team prefix is letters and underscores (e.g. nubot), got {prefix!r}")
+    return prefix
+
+
+@dataclass(frozen=True, order=True)
+class RobotName:
+    team: str  # team prefix, e.g. nubot
+    agent_id: int  # AgentID within the team, 1 or more
+
+    def __post_init__(self) -> None:
+        check_team_prefix(self.team)
+        if isinstance(self.agent_id, bool) or not isinstance(self.agent_id, int) or self.agent_id < 1:
+            raise NubotCommonError(f"an AgentID is a whole number from 1, got {self.agent_id!r}")
+
+    def __str__(self) -> str:
+        return f"{self.team}{self.agent_id}"
+
+
+def parse_robot_name(name: str) -> RobotName:
+    """``rival3`` -> RobotName('rival', 3); a name without a trailing AgentID raises ``NubotCommonError``."""
+    match = _ROBOT.fullmatch(name) if isinstance(name, str) else None
+    if match is None or int(match["number"]) < 1:
+        raise NubotCommonError(f"a robot name is a team prefix and an AgentID from 1 (e.g. nubot2), got {name!r}")
+    return RobotName(match["team"], int(match["number"]))
+
+
+def is_robot_name(name: str) -> bool:
+    match = _ROBOT.fullmatch(name) if isinstance(name, str) else None
+    return match is not None and int(match["number"]) >= 1
+
+
+def team_of(name: str) -> str:
+    """The team of a robot's model name (``nubot3`` -> ``nubot``); any other name is returned unchanged."""
+    return parse_robot_name(name).team if is_robot_name(name) else name

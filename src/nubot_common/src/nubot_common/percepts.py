@@ -1,0 +1,57 @@
+"""What a robot perceives of itself, the ball and other robots (the same from every percept provider).
+
+Provides: ``BallPercept`` (the ball as one robot's own sensors saw it), ``RobotReport`` (a robot's
+state as it reports it: self-localisation, motion, flags and its strategy fields; RobotInfo) and
+``RobotView`` (one robot's percepts at one time: itself, the ball if seen, the robots it sees;
+an own vision frame or a teammate's packet). The simulator's noisy truth, omni_vision, front_vision
+and kinect_ball all produce these. Team frame (own goal at -x): [m], [m/s], [rad]; stamps in sim
+time [s].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from nubot_common.geometry import Pose2D
+from nubot_common.team_play import Point, Role
+
+
+@dataclass(frozen=True)
+class BallPercept:
+    stamp: float  # time of the observation [s]
+    x: float  # [m]
+    y: float  # [m]
+    vx: float = 0.0  # a per-frame estimate [m/s]; the world model fits its own
+    vy: float = 0.0  # [m/s]
+    velocity_known: bool = False
+
+    @property
+    def position(self) -> Point:
+        return self.x, self.y
+
+
+@dataclass(frozen=True)
+class RobotReport:
+    agent_id: int
+    pose: Pose2D  # [m], [rad]
+    vx: float = 0.0  # [m/s]
+    vy: float = 0.0  # [m/s]
+    w: float = 0.0  # [rad/s], counter-clockwise
+    valid: bool = True  # localized and on the field
+    stuck: bool = False  # moves much slower than commanded
+    holding: bool = False  # holds (dribbles) the ball
+    kicking: bool = False  # kicks the ball
+    role: Role = Role.NOROLE
+    role_time: float = 0.0  # how long it has kept its role [s]
+    target_nums: tuple[int, int, int, int] = (0, 0, 0, 0)  # AgentIDs at target positions 1..4
+    static_pass: int = 0  # the passer's AgentID of a set-play pass
+    static_catch: int = 0  # the catcher's AgentID of a set-play pass
+    target: Point = (0.0, 0.0)  # where it is heading [m]
+
+
+@dataclass(frozen=True)
+class RobotView:
+    stamp: float  # [s]
+    robot: RobotReport
+    ball: BallPercept | None = None  # None: not seen
+    obstacles: tuple[Point, ...] = ()  # other robots seen, either team, unlabelled [m]

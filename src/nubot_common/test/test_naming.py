@@ -1,0 +1,39 @@
+"""Robot and team names: <team prefix><AgentID>."""
+
+import pytest
+
+from nubot_common import NubotCommonError
+from nubot_common.naming import RobotName, check_team_prefix, is_robot_name, parse_robot_name, team_of
+
+
+@pytest.mark.parametrize(("name", "team", "agent_id"), [
+    ("rival3", "rival", 3), ("nubot1", "nubot", 1), ("my_team12", "my_team", 12), ("Tech5", "Tech", 5)])
+def test_a_robot_name_is_its_team_and_its_agent_id(name, team, agent_id):
+    parsed = parse_robot_name(name)
+    assert (parsed.team, parsed.agent_id) == (team, agent_id)
+    assert str(parsed) == name, "and gives the model name back"
+
+
+@pytest.mark.parametrize("name", ["nubot", "nubot0", "3", "nu bot2", "nubot2a", "", "/nubot2"])
+def test_names_that_are_no_robot_are_refused_naming_them(name):
+    with pytest.raises(NubotCommonError, match="a robot name is a team prefix and an AgentID from 1"):
+        parse_robot_name(name)
+    assert not is_robot_name(name)
+
+
+def test_team_of_a_model_that_is_no_robot_is_its_own_name():
+    assert team_of("rival4") == "rival"
+    assert team_of("football") == "football"
+
+
+@pytest.mark.parametrize("prefix", ["nubot2", "", "nu-bot", "nu bot"])
+def test_bad_team_prefixes_are_refused(prefix):
+    with pytest.raises(NubotCommonError, match="a team prefix is letters and underscores"):
+        check_team_prefix(prefix)
+
+
+def test_robot_names_order_by_team_then_agent_id():
+    names = sorted(RobotName(t, k) for t, k in (("rival", 2), ("nubot", 10), ("nubot", 2)))
+    assert [str(n) for n in names] == ["nubot2", "nubot10", "rival2"]
+    with pytest.raises(NubotCommonError, match="an AgentID is a whole number from 1, got 0"):
+        RobotName("nubot", 0)

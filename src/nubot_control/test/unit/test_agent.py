@@ -1,0 +1,89 @@
+"""The RobotAgent and its control stage: what reaches the robot interface, and the world_model -> control seam."""
+
+import math
+
+import pytest
+
+from nubot_common import conversions as conv
+from nubot_common.geometry import Pose2D
+from nubot_common.match_mode import MatchMode
+from nubot_common.naming import RobotName
+from nubot_common.percepts import BallPercept, RobotReport, RobotView
+from nubot_common.team_play import Role
+from nubot_common.world_description import WorldDescription
+from nubot_control.agent import DRIBBLE_RETRY, Controller, RobotAgent
+from nubot_control.params import ControlParams
+
+TEAMS = [("nubot1", -8.4, 0, 0), ("nubot2", -1.0, 0, 0), ("nubot3", -3, 2.5, 0), ("nubot4", -3, -2.5, 0),
+         ("nubot5", -5.5, 0, 0), ("rival1", 8.4, 0, math.pi), ("rival2", 1.0, 0, math.pi),
+         ("rival3", 3, -2.5, math.pi), ("rival4", 3, 2.5, math.pi), ("rival5", 5.5, 0, math.pi)]
+
+
+def test_control_acts_the_same_on_the_world_model_message_as_on_the_world_model_itself(make_match):
+    """WorldModelInfo carries the whole decision: the nubot_control node, reading it back, commands what the
+    in-process agent commands (to float32 rounding), cycle after cycle, through a kickoff and open play."""
+    match = make_match(TEAMS)
+    match.command("nubot", MatchMode.OUR_KICKOFF)
+    worlds = []
+    for k in range(200):  # 6 s: formation, then STARTROBOT and the kickoff pass
+        if k == 120:
+            match.command("nubot", MatchMode.STARTROBOT)
+        match.run(1 / 33)
+        worlds.append((match.sim.time, match.steps["nubot2"].world))
+    direct, via_message = (Controller(ControlParams(), WorldDescription(), 2) for _ in range(2))
+    roles = set()
+    for t, world in worlds:
+        decoded = conv.world_state(conv.world_model_info_msg(world), 2)
+        assert decoded.game == world.game and decoded.pass_cmd == world.pass_cmd
+        assert decoded.ball.known == world.ball.known
+        assert [r.valid for r in decoded.robots] == [r.valid for r in world.robots]
+        a, b = direct.step(t, world), via_message.step(t, decoded)
+        assert (a.report.role, a.report.action, a.command.ball_handle, a.command.kick) == \
+            (b.report.role, b.report.action, b.command.ball_handle, b.command.kick)
+        va, vb = a.command.velocity, b.command.velocity
+        assert (vb.vx, vb.vy, vb.w) == pytest.approx((va.vx, va.vy, va.w), abs=2e-3)
+        roles.add(a.report.role)
+    assert {Role.PASSOFPASS, Role.CATCHOFPASS} & roles, "the sequence went through the kickoff"
+
+
+def frame(t, holding=False, ball=(0.4, 0.0)):
+    me = RobotReport(2, Pose2D(0.0, 0.0, 0.0), holding=holding)
+    return RobotView(t, me, BallPercept(t, *ball) if ball else None)
+
+
+def test_the_dribbler_is_asked_for_once_then_again_every_retry_period_until_the_ball_is_held():
+    agent = RobotAgent(RobotName("nubot", 2), WorldDescription())
+    agent.on_coach(0.0, MatchMode.STARTROBOT)
+    requests = []
+    for k in range(40):
+        t = k / 33
+        agent.on_vision(frame(t, holding=t > 0.8))
+        step = agent.step(t)
+        assert step.command.dribble or t > 0.8
+        requests.append((round(t, 3), step.command.ball_handle))
+    asked = [t for t, r in requests if r == 1]
+    assert asked[0] == 0.0, "at once"
+    assert all(b - a >= DRIBBLE_RETRY - 1e-9 for a, b in zip(asked, asked[1:])), "not every cycle"
+    assert len(asked) == 4 and max(asked) < 0.8, "again every 0.2 s, not once the ball is held"
+
+
+def test_no_kick_is_sent_unless_the_ball_is_held_and_the_report_names_the_robot():
+    agent = RobotAgent(RobotName("nubot", 2), WorldDescription())
+    agent.on_coach(0.0, MatchMode.STARTROBOT)
+    for k in range(100):
+        t = k / 33
+        agent.on_vision(frame(t, holding=False, ball=(7.0, 0.0)))
+        step = agent.step(t)
+        assert step.command.kick is None
+    assert step.report.agent_id == 2 and step.report.role == Role.ACTIVE
+    assert step.packet is not None and step.packet.robot.role == Role.ACTIVE, "teammates learn its role"
+    assert step.world.me.report.target == pytest.approx(step.report.target, abs=1e-9), "and where it heads"
+
+
+def test_a_robot_that_does_not_know_where_it_is_stands_still():
+    agent = RobotAgent(RobotName("nubot", 2), WorldDescription())
+    agent.on_coach(0.0, MatchMode.STARTROBOT)
+    agent.on_vision(RobotView(0.0, RobotReport(2, Pose2D(0.0, 0.0, 0.0), valid=False), BallPercept(0.0, 3.0, 0.0)))
+    step = agent.step(0.0)
+    v = step.command.velocity
+    assert (v.vx, v.vy, v.w, step.command.kick) == (0.0, 0.0, 0.0, None)

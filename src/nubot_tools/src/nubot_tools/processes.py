@@ -1,0 +1,191 @@
+"""Start and stop ROS processes for tests, benchmarks and the match runner (no rospy here).
+
+Provides: ``free_port``, ``wait_until`` (poll a condition on the wall clock), ``RosMaster``
+(a ``roscore`` on a free port, never 11311, with the environment that points clients at
+it) and ``Launched`` (a ``roslaunch`` or
+``rosrun`` process in its own process group, stopped with everything it started).
+Logs go to ``log_dir`` so that a failing test can show them.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import time
+import xmlrpc.client
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import IO, Any, TypeVar
+
+T = TypeVar("T")
+
+DEFAULT_MASTER_PORT = 11311
+
+
+def free_port() -> int:
+    """A TCP port on loopback that nothing listens on now (never the default master port)."""
+    while True:
+        with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
+            sock.bind(("127.0.0.1", 0))
+            port = sock.getsockname()[1]
+        if port != DEFAULT_MASTER_PORT:
+            return port
+
+
+def _default_sigint() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+class Launched:
+    """A child process in its own session; ``stop`` ends the whole group (SIGINT, then SIGKILL)."""
+
+    def __init__(self, args: Sequence[str], env: dict[str, str], log_path: Path):
+        self.args = list(args)
+        self.log_path = log_path
+        self._log: IO[bytes] = open(log_path, "wb")  # noqa: SIM115 - closed in stop()
+        # SIGINT back to its default: started from a background job (`make match &`, nohup) the child would
+        # inherit it ignored, and stop() could only kill it (rosbag would leave its bag unclosed).
+        self.process = subprocess.Popen(self.args, env=env, stdout=self._log, stderr=subprocess.STDOUT,
+                                        stdin=subprocess.DEVNULL, start_new_session=True,
+                                        preexec_fn=_default_sigint)
+
+    def alive(self) -> bool:
+        return self.process.poll() is None
+
+    def log_text(self) -> str:
+        if not self._log.closed:
+            self._log.flush()
+        return self.log_path.read_text(errors="replace")
+
+    def stop(self, timeout: float = 10.0) -> None:
+        """SIGINT to the whole group, wait for all of it (e.g. rosbag's recorder closing its bag), then SIGKILL."""
+        deadline = time.monotonic() + timeout
+        # roslaunch puts each node in a process group of its own: remember them all before asking to stop.
+        descendants = _descendants(self.process.pid)
+        if self.alive():
+            try:
+                os.killpg(self.process.pid, signal.SIGINT)
+                self.process.wait(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                os.killpg(self.process.pid, signal.SIGKILL)
+                self.process.wait(timeout=timeout)
+            except ProcessLookupError:
+                pass
+        while time.monotonic() < deadline and self._group_alive():
+            time.sleep(0.05)
+        while time.monotonic() < deadline and any(_running(pid) for pid in descendants):
+            time.sleep(0.05)
+        try:
+            os.killpg(self.process.pid, signal.SIGKILL)  # stragglers the group left behind
+        except ProcessLookupError:
+            pass
+        for pid in descendants:  # and nodes in groups of their own that outlived their launcher
+            if _running(pid):
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+        self._log.close()
+
+    def _group_alive(self) -> bool:
+        """True while a member of the process group still runs (zombies do not count)."""
+        for stat in Path("/proc").glob("[0-9]*/stat"):
+            fields = _proc_stat(int(stat.parent.name))
+            if fields is not None and fields[0] != "Z" and int(fields[2]) == self.process.pid:
+                return True
+        return False
+
+
+def wait_until(predicate: Callable[[], T], timeout: float, what: str, poll: float = 0.01) -> T:
+    """Poll ``predicate`` on the wall clock until it returns something truthy; return that, or raise AssertionError."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(poll)
+    raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+
+def _proc_stat(pid: int) -> list[str] | None:
+    """The fields after the command name in /proc/<pid>/stat (state, ppid, pgrp, ...), or None."""
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except (OSError, IndexError):
+        return None
+
+
+def _running(pid: int) -> bool:
+    fields = _proc_stat(pid)
+    return fields is not None and fields[0] != "Z"
+
+
+def _descendants(root: int) -> list[int]:
+    """Every live process below ``root`` (children, grandchildren, ...)."""
+    children: dict[int, list[int]] = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            fields = _proc_stat(int(entry.name))
+            if fields is not None:
+                children.setdefault(int(fields[1]), []).append(int(entry.name))
+    found, todo = [], [root]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            found.append(child)
+            todo.append(child)
+    return found
+
+
+class RosMaster:
+    """A private ``roscore`` on a free port; use as a context manager."""
+
+    def __init__(self, log_dir: Path, port: int | None = None):
+        self.port = port or free_port()
+        self.uri = f"http://127.0.0.1:{self.port}/"
+        self.log_dir = Path(log_dir)
+        self.log_dir.mkdir(parents=True, exist_ok=True)
+        self.env = dict(os.environ, ROS_MASTER_URI=self.uri, ROS_IP="127.0.0.1",
+                        ROS_LOG_DIR=str(self.log_dir / "ros"), PYTHONUNBUFFERED="1")
+        self.env.pop("ROS_HOSTNAME", None)
+        self.children: list[Launched] = []
+        self.core: Launched | None = None
+
+    def __enter__(self) -> RosMaster:
+        self.core = Launched(["roscore", "-p", str(self.port)], self.env, self.log_dir / "roscore.log")
+        self.wait_until_up()
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        self.stop()
+
+    def wait_until_up(self, timeout: float = 30.0) -> None:
+        deadline = time.monotonic() + timeout
+        proxy = xmlrpc.client.ServerProxy(self.uri)
+        while time.monotonic() < deadline:
+            try:
+                answer: Any = proxy.getParam("/nubot_probe", "/rosversion")
+                code = answer[0]
+                if code == 1:
+                    return
+            except OSError:
+                pass
+            if self.core is not None and not self.core.alive():
+                raise RuntimeError(f"roscore exited:\n{self.core.log_text()}")
+            time.sleep(0.1)
+        raise TimeoutError(f"roscore on port {self.port} did not come up in {timeout} s")
+
+    def launch(self, name: str, args: Sequence[str]) -> Launched:
+        """Start ``args`` (e.g. ``["roslaunch", "sim_visual", "single_robot.launch"]``) against this master."""
+        child = Launched(args, self.env, self.log_dir / f"{name}.log")
+        self.children.append(child)
+        return child
+
+    def stop(self) -> None:
+        for child in reversed(self.children):
+            child.stop()
+        self.children.clear()
+        if self.core is not None:
+            self.core.stop()
+            self.core = None

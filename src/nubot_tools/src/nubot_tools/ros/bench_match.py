@@ -1,0 +1,84 @@
+"""Benchmark full matches: 5 vs 5 over ROS at real time, and statistics over seeded short matches.
+
+For each tracker of the motion layer (mpc, then baseline) and each seed it runs ``run_match.py``
+(the whole stack: simulator, 10 robots' world_model and nubot_control, two relays, the automatic
+referee, rosbag) with performance monitoring, then reads the match report. Writes
+``<out>/match.json`` with, per match, the achieved real-time factor, the control loops' rates and
+missed cycles, CPU (cores, per node kind) and memory, goals, passes, running share, robot-robot
+collisions and the time to reach a free ball; and their means per tracker over the seeds (the
+same seeds for both trackers: the effect of the motion layer on play).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+from nubot_tools import WORKSPACE
+
+PLAY = ("goals", "passes_completed", "passes_tried", "shots", "running_share", "collisions_per_minute",
+        "collisions", "ball_reach_median_s", "ball_reach_mean_s")
+PERFORMANCE = ("achieved_real_time_factor", "control_rate_min_hz", "missed_cycle_share", "cpu_cores_total",
+               "rss_mib_total")
+
+
+def play_match(tracker: str, seed: int, half_seconds: float, out: Path) -> dict:
+    perf_file = out / f"match_perf_{tracker}_seed{seed}.json"
+    folder = out / "matches"
+    status = subprocess.run([sys.executable, "-m", "nubot_tools.ros.match_runner", "--half-seconds",
+                             str(half_seconds), "--halves", "1", "--seed", str(seed), "--out", str(folder),
+                             "--tracker", tracker, "--perf-json", str(perf_file)]).returncode
+    latest = max(folder.iterdir(), key=lambda p: p.stat().st_mtime)
+    report = json.loads((latest / "report.json").read_text())
+    perf = json.loads(perf_file.read_text())
+    return {
+        "tracker": tracker, "seed": seed, "status": status, "folder": str(latest), "performance": perf,
+        "goals": sum(report["score"].values()),
+        "passes_completed": sum(t["completed"] for t in report["passes"].values()),
+        "passes_tried": sum(t["tried"] for t in report["passes"].values()),
+        "shots": sum(report["shots"].values()),
+        "running_share": round(report["running_time_s"] / report["duration_s"], 3),
+        "collisions": report["collisions"]["total"],
+        "collisions_per_minute": report["collisions"]["per_minute"],
+        "ball_reach_median_s": report["ball_reach"]["median_s"],
+        "ball_reach_mean_s": report["ball_reach"]["mean_s"],
+    }
+
+
+def mean_of(matches: list[dict], key: str, performance: bool = False) -> float | None:
+    values = [m["performance"][key] if performance else m[key] for m in matches]
+    values = [v for v in values if v is not None]
+    return round(statistics.mean(values), 3) if values else None
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
+    parser.add_argument("--half-seconds", type=float, default=60.0)
+    parser.add_argument("--trackers", nargs="+", choices=("mpc", "baseline"), default=["mpc", "baseline"])
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    by_tracker = {}
+    for tracker in args.trackers:
+        matches = []
+        for seed in args.seeds:
+            print(f"[bench] match with the {tracker} tracker, seed {seed}: 1 x {args.half_seconds:.0f} s at real "
+                  "time", flush=True)
+            matches.append(play_match(tracker, seed, args.half_seconds, args.out))
+        summary = {k: mean_of(matches, k) for k in PLAY}
+        summary.update({k: mean_of(matches, k, performance=True) for k in PERFORMANCE})
+        by_tracker[tracker] = {"matches": matches, "mean": summary}
+        print(f"[bench] {tracker}: {json.dumps(summary)}", flush=True)
+    result = {"half_seconds": args.half_seconds, "seeds": args.seeds, "by_tracker": by_tracker}
+    (args.out / "match.json").write_text(json.dumps(result, indent=2))
+    print(f"figures: {args.out / 'match.json'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

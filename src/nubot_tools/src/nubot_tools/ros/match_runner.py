@@ -1,0 +1,276 @@
+"""Play a refereed 5 vs 5 match on this machine, record it to a rosbag, and report on it.
+
+Starts a private roscore on a free port, the simulator (``sim_visual match.launch``, which loads
+the match's world description into /world for every node), a recorder (``rosbag record -a``),
+both teams through the spawner (each robot's world_model and nubot_control under its prefix,
+one relay per team) and the automatic referee. Shows the game clock, the score and the last
+referee event while it plays; at the end writes ``matches/match-<time>/match.bag`` and the match
+report (report.json, heatmap.png, trajectories.png) from the bag alone.
+Parameters: ``--field`` (18x12, 22x14 or a world description YAML), ``--half-seconds`` [s of game
+time], ``--halves``, ``--real-time-factor``, ``--seed``, ``--team`` (twice), ``--tracker``, ``--out``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from datetime import datetime
+from pathlib import Path
+
+from nubot_tools import WORKSPACE
+from nubot_tools.processes import RosMaster
+
+TEAMS = WORKSPACE / "src" / "nubot_control" / "config" / "teams"
+
+
+class GameWatcher:
+    """Follows /referee/state and /clock."""
+
+    def __init__(self) -> None:
+        import rospy
+        from rosgraph_msgs.msg import Clock
+
+        from nubot_common.msg import GameState
+
+        self.clock = 0.0
+        self.state = None
+        self.events: list[tuple[float, str]] = []
+        rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1)
+        rospy.Subscriber("/referee/state", GameState, self._on_state, queue_size=10)
+
+    def _on_clock(self, msg) -> None:
+        self.clock = msg.clock.to_sec()
+
+    def _on_state(self, msg) -> None:
+        self.state = msg
+        if msg.last_event and (not self.events or self.events[-1][1] != msg.last_event):
+            self.events.append((self.clock, msg.last_event))
+            print(f"  [{_clock(self.clock)}] {msg.last_event}", flush=True)
+
+    def line(self) -> str:
+        s = self.state
+        if s is None:
+            return f"  sim {_clock(self.clock)}: waiting for the referee"
+        score = " - ".join(f"{team} {goals}" for team, goals in zip(s.teams, s.score))
+        status = "running" if s.running else "stopped"
+        return f"  sim {_clock(self.clock)} | half {s.half} {_clock(s.game_time)} | {score} | {status}"
+
+
+class PerfMonitor:
+    """Measures a running match: real-time factor, each robot's control rate, CPU and memory per node kind."""
+
+    KINDS = ("sim_visual_node", "world_model_node", "nubot_control_node", "sim_interface", "referee", "record",
+             "rosmaster", "rosout")
+
+    def __init__(self, robots: list[str], launched: list, rate: float = 33.0) -> None:
+        import rospy
+
+        from nubot_common.msg import StrategyInfo
+
+        self.rate = rate
+        self.launched = launched
+        self.counts = dict.fromkeys(robots, 0)
+        self.samples: list[dict[str, float]] = []
+        self.start: tuple[float, float] | None = None
+        self._known: dict[int, object] = {}  # psutil measures CPU between two calls on the same Process object
+        self.subs = [rospy.Subscriber(f"/{r}/nubotcontrol/strategy", StrategyInfo,
+                                      lambda _m, r=r: self._count(r), queue_size=50) for r in robots]
+
+    def _count(self, robot: str) -> None:
+        if self.start is not None:
+            self.counts[robot] += 1
+
+    def _processes(self):
+        import psutil
+
+        procs = []
+        for launched in self.launched:
+            try:
+                root = psutil.Process(launched.process.pid)
+                procs += [root, *root.children(recursive=True)]
+            except psutil.NoSuchProcess:
+                continue
+        return [self._known.setdefault(p.pid, p) for p in procs]
+
+    def begin(self, clock: float) -> None:
+        for proc in self._processes():
+            try:
+                proc.cpu_percent(None)
+            except Exception:  # noqa: BLE001 - a process may end between listing and asking
+                pass
+        self.counts = dict.fromkeys(self.counts, 0)
+        self.start = (time.monotonic(), clock)
+
+    def sample(self) -> None:
+        kinds: dict[str, float] = {}
+        memory = 0.0
+        for proc in self._processes():
+            try:
+                cmd = " ".join(proc.cmdline())
+                cpu = proc.cpu_percent(None) / 100.0
+                memory += proc.memory_info().rss
+            except Exception:  # noqa: BLE001
+                continue
+            kind = next((k for k in self.KINDS if k in cmd), "other")
+            kinds[kind] = kinds.get(kind, 0.0) + cpu
+        kinds["rss_mib"] = memory / 2**20
+        self.samples.append(kinds)
+
+    def result(self, clock: float) -> dict:
+        assert self.start is not None
+        wall, sim = time.monotonic() - self.start[0], clock - self.start[1]
+        expected = self.rate * sim
+        rates = {r: n / sim for r, n in self.counts.items()} if sim > 0 else {}
+        samples = self.samples[1:] or self.samples
+        kinds = sorted({k for s in samples for k in s} - {"rss_mib"})
+        cpu = {k: round(sum(s.get(k, 0.0) for s in samples) / len(samples), 3) for k in kinds}
+        return {
+            "wall_seconds": round(wall, 1), "sim_seconds": round(sim, 1),
+            "achieved_real_time_factor": round(sim / wall, 3) if wall > 0 else None,
+            "control_rate_hz": {r: round(v, 2) for r, v in rates.items()},
+            "control_rate_min_hz": round(min(rates.values()), 2) if rates else None,
+            "missed_cycles": {r: max(0, round(expected - n)) for r, n in self.counts.items()},
+            "missed_cycle_share": round(1 - sum(self.counts.values()) / (expected * len(self.counts)), 4)
+            if expected > 0 else None,
+            "cpu_cores_by_kind": cpu, "cpu_cores_total": round(sum(cpu.values()), 2),
+            "rss_mib_total": round(max(s["rss_mib"] for s in samples), 1),
+            "cpus": os.cpu_count(),
+        }
+
+
+def _clock(seconds: float) -> str:
+    return f"{int(seconds // 60):02d}:{seconds % 60:04.1f}"
+
+
+def wait_for_robots(names: list[str], timeout: float) -> list[str]:
+    """Wait until every robot publishes its world model; return the ones still silent."""
+    import rospy
+
+    from nubot_common.msg import WorldModelInfo
+
+    heard: set[str] = set()
+    subs = [rospy.Subscriber(f"/{n}/worldmodel/worldmodelinfo", WorldModelInfo,
+                             lambda _m, n=n: heard.add(n), queue_size=1) for n in names]
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and len(heard) < len(names):
+        time.sleep(0.2)
+    for sub in subs:
+        sub.unregister()
+    return sorted(set(names) - heard)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--half-seconds", type=float, default=90.0, help="length of a half [s of game time]")
+    parser.add_argument("--halves", type=int, default=2)
+    parser.add_argument("--real-time-factor", type=float, default=1.0)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--team", action="append", type=Path, help="team YAML (twice); default nubot and rival")
+    parser.add_argument("--out", type=Path, default=WORKSPACE / "matches")
+    parser.add_argument("--no-report", action="store_true")
+    parser.add_argument("--perf-json", type=Path, help="measure real-time factor, control rates, CPU and memory")
+    parser.add_argument("--tracker", choices=("mpc", "baseline"), default="",
+                        help="the motion layer's tracker of every robot (default: as configured, mpc)")
+    parser.add_argument("--field", default="18x12",
+                        help="the world: 18x12 (the chapter's field), 22x14 (the current MSL field) or a YAML file")
+    args = parser.parse_args(argv)
+    teams = args.team or [TEAMS / "nubot.yaml", TEAMS / "rival.yaml"]
+    if len(teams) != 2:
+        parser.error("give --team exactly twice")
+
+    from nubot_common import NubotCommonError
+    from nubot_common.params import load_yaml
+    from nubot_common.world_description import load_world, world_file
+    from nubot_control.team_config import TeamConfig
+
+    try:
+        world_path = world_file(args.field)
+        world = load_world(world_path)
+        configs = [load_yaml(TeamConfig, t) for t in teams]
+        for config in configs:
+            config.check_field(world.field)
+    except (OSError, NubotCommonError, ValueError) as exc:
+        parser.error(str(exc))
+    out = args.out / datetime.now().strftime("match-%Y%m%d-%H%M%S")
+    out.mkdir(parents=True, exist_ok=True)
+    bag = out / "match.bag"
+    game_seconds = args.half_seconds * args.halves
+    print(f"match {configs[0].name} vs {configs[1].name} on the {world.name} field: {args.halves} x "
+          f"{args.half_seconds:.0f} s, real_time_factor {args.real_time_factor}, seed {args.seed}; folder {out}",
+          flush=True)
+    with RosMaster(out / "logs") as master:
+        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        import rospy
+
+        rospy.init_node("match_runner", disable_signals=True)
+        master.launch("sim", ["roslaunch", "--skip-log-check", "sim_visual", "match.launch",
+                              f"real_time_factor:={args.real_time_factor}", f"seed:={args.seed}",
+                              f"world:={world_path}"])
+        rospy.wait_for_service("/sim_visual/spawn_model", timeout=60)
+        recorder = master.launch("recorder", ["rosbag", "record", "-a", "-O", str(bag), "__name:=match_recorder"])
+        tracker = ["--tracker", args.tracker] if args.tracker else []
+        for team_file, config in zip(teams, configs):
+            master.launch(f"team_{config.prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
+                                                    str(team_file), *tracker])
+        names = [n for c in configs for n in c.robot_names()]
+        silent = wait_for_robots(names, timeout=180)
+        if silent:
+            print(f"  robots without a world model after 180 s: {', '.join(silent)}; playing on", flush=True)
+        print(f"  {len(names) - len(silent)} robots ready; kick-off", flush=True)
+        teams_yaml = out / "referee_teams.yaml"
+        teams_yaml.write_text("teams:\n" + "".join(f"  - {{prefix: {c.prefix}, attack: {c.attack}}}\n"
+                                                     for c in configs))
+        referee = master.launch("referee", ["roslaunch", "--skip-log-check", "coach4sim", "referee.launch",
+                                            f"half_duration:={args.half_seconds}", f"halves:={args.halves}",
+                                            f"config:={teams_yaml}"])
+        watcher = GameWatcher()
+        perf = PerfMonitor(names, master.children) if args.perf_json else None
+        perf_started = False
+        wall_start, last_line = time.monotonic(), 0.0
+        limit = 120.0 + 3.0 * game_seconds / max(args.real_time_factor, 0.05)
+        while True:
+            s = watcher.state
+            if s is not None and s.half >= args.halves and s.game_time >= args.half_seconds - 0.05 and not s.running:
+                break
+            if not referee.alive():
+                print("  the referee stopped unexpectedly", flush=True)
+                break
+            if time.monotonic() - wall_start > limit:
+                print("  wall-clock limit reached; ending the match", flush=True)
+                break
+            if time.monotonic() - last_line >= 5.0:
+                last_line = time.monotonic()
+                print(watcher.line(), flush=True)
+                if perf is not None:
+                    if perf_started:
+                        perf.sample()
+                    elif s is not None:
+                        perf.begin(watcher.clock)
+                        perf_started = True
+            time.sleep(0.1)
+        print(watcher.line(), flush=True)
+        elapsed = time.monotonic() - wall_start
+        print(f"  full time after {elapsed:.0f} s wall ({watcher.clock / max(elapsed, 1e-6):.2f} x real time); "
+              "closing the bag", flush=True)
+        if perf is not None and perf_started:
+            figures = perf.result(watcher.clock)
+            args.perf_json.parent.mkdir(parents=True, exist_ok=True)
+            args.perf_json.write_text(json.dumps(figures, indent=2))
+            print(f"  performance: real-time factor {figures['achieved_real_time_factor']}, slowest control loop "
+                  f"{figures['control_rate_min_hz']} Hz, missed cycles {100 * figures['missed_cycle_share']:.1f} %, "
+                  f"CPU {figures['cpu_cores_total']} of {figures['cpus']} cores, memory {figures['rss_mib_total']} MiB",
+                  flush=True)
+        recorder.stop(timeout=20)
+        rospy.signal_shutdown("match over")
+    if args.no_report:
+        return 0
+    from nubot_tools import match_report
+
+    return match_report.main([str(bag), "--out", str(out)])
+
+
+if __name__ == "__main__":
+    sys.exit(main())
