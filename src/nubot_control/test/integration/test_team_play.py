@@ -150,3 +150,41 @@ def test_running_match_graph_matches_the_topic_table(match):
             assert published.get(name) == want, f"{name}: published by {published.get(name)}, table says {want}"
             checked += 1
     assert checked == 14
+
+
+def original_type(name: str):
+    """A message class built from the original NuBot nubot_common definition of ``name`` (as a node compiled
+    against that package has it): its md5sum is the original's, not read from our generated code."""
+    import genmsg
+    import genmsg.msg_loader as loader
+    import rospkg
+    from genpy.dynamic import generate_dynamic
+
+    originals = ROOT / "src" / "nubot_common" / "test" / "original_msgs"
+    search = {"nubot_common": [str(originals)],
+              "std_msgs": [str(Path(rospkg.RosPack().get_path("std_msgs")) / "msg")]}
+    context = loader.MsgContext.create_default()
+    spec = loader.load_msg_by_type(context, f"nubot_common/{name}", search)
+    loader.load_depends(context, spec, search)
+    return generate_dynamic(f"nubot_common/{name}", genmsg.compute_full_text(context, spec))[f"nubot_common/{name}"]
+
+
+@pytest.mark.parametrize(("topic", "name"), [
+    ("/nubot3/worldmodel/worldmodelinfo", "WorldModelInfo"),
+    ("/nubot3/nubotcontrol/strategy", "StrategyInfo"),
+    ("/nubot/simulation_interface/strategy", "simulation_strategy"),
+    ("/rival2/omnivision/OmniVisionInfo", "OminiVisionInfo"),
+    ("/rival2/nubotcontrol/targetinfo", "TargetInfo"),
+])
+def test_a_node_built_against_the_original_messages_hears_ours(match, topic, name):
+    """ROS 1 connects only when md5sums agree: a subscriber of the original type receives our messages."""
+    import rospy
+
+    cls = original_type(name)
+    received = []
+    sub = rospy.Subscriber(topic, cls, received.append, queue_size=5)
+    try:
+        wait_until(lambda: received, 10.0, f"a {name} on {topic} for a subscriber of the original type")
+    finally:
+        sub.unregister()
+    assert cls._md5sum == received[0]._md5sum
