@@ -11,19 +11,13 @@ Provides: ``game_state_msg`` (GameState),
 
 from __future__ import annotations
 
-import genpy
-
 from coach4sim.console import ScoreView, WatchView
 from coach4sim.game import GameStateData
 from nubot_common import NubotCommonError
-from nubot_common.conversions import world_state
+from nubot_common.conversions import stamp, world_state
 from nubot_common.msg import GameState, ModelState, ModelStates, WorldModelInfo
 from nubot_common.naming import parse_robot_name
 from nubot_common.world_state import BallSource
-
-
-def stamp(t: float) -> genpy.Time:
-    return genpy.Time.from_sec(max(t, 0.0))
 
 
 def game_state_msg(state: GameStateData, t: float) -> GameState:

@@ -8,9 +8,9 @@ at 30 Hz, commands at 33 Hz, ball-handle and shoot requests), and returns an
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
-from sim_visual.demo import DemoBehaviour, DemoParams, DemoPerception, DemoState
+from sim_visual.demo import DemoBehaviour, DemoParams, DemoState
 from sim_visual.simulator import GoalScored, SimEvent, Simulator
 
 VISION_PERIOD = 1.0 / 30.0  # [s]
@@ -33,7 +33,7 @@ class EpisodeLog:
 def run_demo_episode(sim: Simulator, robot: str, params: DemoParams, duration: float,
                      stop_at_home: bool = True) -> EpisodeLog:
     """Run the demo behaviour on ``robot`` for up to ``duration`` seconds of sim time."""
-    demo = DemoBehaviour(params)
+    demo = DemoBehaviour(params, sim.config.field)
     log = EpisodeLog()
     frame = sim.observe(robot)
     next_vision, next_control = 0.0, 0.0
@@ -43,14 +43,15 @@ def run_demo_episode(sim: Simulator, robot: str, params: DemoParams, duration: f
             next_vision += VISION_PERIOD
         if sim.time >= next_control:
             next_control += CONTROL_PERIOD
-            ball = frame.ball.position if frame.ball is not None else None
-            action, transitions = demo.step(DemoPerception(sim.time, frame.robot.pose, ball, sim.holder == robot))
+            now = replace(frame, stamp=sim.time, robot=replace(frame.robot, holding=sim.holder == robot))
+            command, transitions = demo.step(now)
             log.transitions += [(sim.time, a.value, b.value) for a, b in transitions]
-            sim.command_velocity(robot, action.vx, action.vy, action.w)
-            if action.ball_handle is not None:
-                sim.ball_handle(robot, action.ball_handle)
-            if action.shoot is not None:
-                done, event = sim.shoot(robot, *action.shoot)
+            v = command.velocity
+            sim.command_velocity(robot, v.vx, v.vy, v.w)
+            if command.ball_handle is not None:
+                sim.ball_handle(robot, command.ball_handle)
+            if command.kick is not None:
+                done, event = sim.shoot(robot, float(command.kick.strength), int(command.kick.kind))
                 if event is not None:
                     log.events.append(event)
                 if not done:

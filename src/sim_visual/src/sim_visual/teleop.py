@@ -1,11 +1,11 @@
 """Keyboard teleoperation of one robot, as a pure key-to-command mapper (no rospy here).
 
 Requires: one key at a time (a one-character string, as read from a terminal in
-cbreak mode). Provides: ``KeyTeleop.handle`` returning a ``TeleopAction``: the new
+cbreak mode). Provides: ``KeyTeleop.handle`` returning a ``RobotCommand``: the new
 body-frame velocity command (Vx forward and Vy left [m/s], w counter-clockwise
 [rad/s], as nubot_common/VelCmd), an optional BallHandle request (enable 1 dribble,
-0 release), an optional Shoot request (strength [m/s], ShootPos -1 ground pass or
-1 lob) and a quit flag. ``HELP`` lists the bindings. Parameters (``TeleopParams``):
+0 release), an optional kick (a ground pass at the pass strength [m/s], or a lob);
+None when the key asks to quit. ``HELP`` lists the bindings. Parameters (``TeleopParams``):
 linear_step [m/s], angular_step [rad/s], max_linear [m/s, on the norm of (Vx, Vy)],
 max_angular [rad/s] and pass_strength [m/s, integer, 1..12].
 """
@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from nubot_common.commands import KickKind
+from nubot_common.commands import BodyVelocity, KickCommand, KickKind, RobotCommand
 
 MIN_PASS_STRENGTH = 1  # [m/s]; Shoot.strength is an integer, 0 would not move the ball
 MAX_PASS_STRENGTH = 12  # [m/s]; the simulator's kick_max_speed, faster kicks are clamped anyway
@@ -63,22 +63,12 @@ class TeleopParams:
                              f"got {strength}")
 
 
-@dataclass(frozen=True)
-class TeleopAction:
-    vx: float = 0.0  # body frame, forward [m/s]
-    vy: float = 0.0  # body frame, left [m/s]
-    w: float = 0.0  # counter-clockwise [rad/s]
-    ball_handle: int | None = None  # BallHandle request (1 dribble, 0 release) or None
-    shoot: tuple[int, int] | None = None  # Shoot request (strength [m/s], ShootPos) or None
-    quit: bool = False
-
-
 def _snap(value: float) -> float:
     return 0.0 if abs(value) < _ZERO_TOLERANCE else value
 
 
 class KeyTeleop:
-    """Hold the current body-frame command and turn key presses into ``TeleopAction``s."""
+    """Hold the current body-frame command and turn key presses into ``RobotCommand``s."""
 
     def __init__(self, params: TeleopParams):
         self.params = params
@@ -88,11 +78,13 @@ class KeyTeleop:
         self.pass_strength = params.pass_strength  # [m/s]
         self.dribbling = False  # the dribble mode last requested
 
-    def handle(self, key: str) -> TeleopAction:
-        """Apply one key; unknown keys leave everything unchanged and request nothing."""
+    def handle(self, key: str) -> RobotCommand | None:
+        """Apply one key; unknown keys leave everything unchanged and request nothing; None: quit."""
+        if key in _QUIT_KEYS:
+            return None
         prm = self.params
         ball_handle: int | None = None
-        shoot: tuple[int, int] | None = None
+        kick: KickCommand | None = None
         if key in _LINEAR_KEYS:
             sx, sy = _LINEAR_KEYS[key]
             self._set_linear(self.vx + sx * prm.linear_step, self.vy + sy * prm.linear_step)
@@ -105,14 +97,14 @@ class KeyTeleop:
             self.dribbling = not self.dribbling
             ball_handle = 1 if self.dribbling else 0
         elif key == "p":
-            shoot = (self.pass_strength, int(KickKind.GROUND))
+            kick = KickCommand(KickKind.GROUND, self.pass_strength)
         elif key == "l":
-            shoot = (0, int(KickKind.LOB))
+            kick = KickCommand(KickKind.LOB, 0)
         elif key == "+":
             self.pass_strength = min(MAX_PASS_STRENGTH, self.pass_strength + PASS_STRENGTH_STEP)
         elif key == "-":
             self.pass_strength = max(MIN_PASS_STRENGTH, self.pass_strength - PASS_STRENGTH_STEP)
-        return TeleopAction(self.vx, self.vy, self.w, ball_handle, shoot, key in _QUIT_KEYS)
+        return RobotCommand(BodyVelocity(self.vx, self.vy, self.w), self.dribbling, ball_handle, kick)
 
     def stop(self) -> None:
         """Zero the velocity command (dribble mode and pass strength are kept)."""

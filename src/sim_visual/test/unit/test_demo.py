@@ -4,10 +4,22 @@ import math
 
 import pytest
 
+from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D
-from sim_visual.demo import DemoBehaviour, DemoParams, DemoPerception, DemoState
+from nubot_common.percepts import BallPercept, RobotReport, RobotView
+from sim_visual.demo import DemoBehaviour, DemoParams, DemoState
 from sim_visual.episode import run_demo_episode
 from sim_visual.params import NoiseParams
+
+
+def seen(t, ball, holding):
+    """What the demo perceives at ``t``: itself at the origin facing +x, the ball at ``ball`` (None: unseen)."""
+    return RobotView(t, RobotReport(1, Pose2D(), holding=holding), BallPercept(t, *ball) if ball else None)
+
+
+def demo():
+    return DemoBehaviour(DemoParams(), FieldGeometry())
+
 
 ORDER = ["CHASE_BALL", "DRIBBLE_BALL/MOVE_BALL", "DRIBBLE_BALL/ROTATE_BALL", "KICK_BALL", "RESET", "HOME"]
 
@@ -32,23 +44,22 @@ def test_demo_speed_respects_its_profile(make_sim):
 
 
 def test_demo_without_ball_in_sight_turns_to_look():
-    demo = DemoBehaviour(DemoParams())
-    action, _ = demo.step(DemoPerception(0.0, Pose2D(), None, False))
-    assert action.w > 0.0 and action.ball_handle is None
+    action, _ = demo().step(seen(0.0, None, False))
+    assert action.velocity.w > 0.0 and action.ball_handle is None
 
 
 def test_demo_asks_for_the_ball_only_when_close_and_facing_it():
-    demo = DemoBehaviour(DemoParams())
-    far, _ = demo.step(DemoPerception(0.0, Pose2D(), (2.0, 0.0), False))
-    near, _ = demo.step(DemoPerception(0.03, Pose2D(), (0.42, 0.0), False))
+    behaviour = demo()
+    far, _ = behaviour.step(seen(0.0, (2.0, 0.0), False))
+    near, _ = behaviour.step(seen(0.03, (0.42, 0.0), False))
     assert far.ball_handle is None and near.ball_handle == 1
 
 
 def test_demo_losing_the_ball_goes_back_to_chasing():
-    demo = DemoBehaviour(DemoParams())
-    demo.step(DemoPerception(0.0, Pose2D(), (0.43, 0.0), True))
-    assert demo.state == DemoState.MOVE_BALL
-    _, transitions = demo.step(DemoPerception(0.03, Pose2D(), (3.0, 0.0), False))
+    behaviour = demo()
+    behaviour.step(seen(0.0, (0.43, 0.0), True))
+    assert behaviour.state == DemoState.MOVE_BALL
+    _, transitions = behaviour.step(seen(0.03, (3.0, 0.0), False))
     assert transitions[-1] == (DemoState.MOVE_BALL, DemoState.CHASE_BALL)
 
 
@@ -62,3 +73,14 @@ def test_demo_with_noisy_perception_still_scores(make_sim):
 def test_bad_demo_params_are_refused():
     with pytest.raises(ValueError, match="shot must be 'lob' or 'ground'"):
         DemoParams(shot="bicycle")
+
+
+def test_on_the_22_by_14_field_the_demo_shoots_at_its_goal(make_sim):
+    from nubot_common.world_description import load_world
+
+    sim = make_sim(robots=(("nubot1", -2.0, 0.0, 0.0),), ball=(1.0, 2.0), world=load_world("22x14"))
+    log = run_demo_episode(sim, "nubot1", DemoParams(shot="ground"), 60.0)
+    assert len(log.goals) == 1 and log.goals[0].ball.x > 11.0, "in the goal at x = 11"
+    kick = next(t for t, _, state in log.transitions if state == "RESET")
+    x = log.robot[log.times.index(next(t for t in log.times if t >= kick))][0]
+    assert x == pytest.approx(11.0 - 6.0, abs=0.3), "dribbled to 6 m before the 22 x 14 goal line"

@@ -18,7 +18,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from nubot_tools import WORKSPACE
+from nubot_tools.workspace import WORKSPACE
 
 PLAY = ("goals", "passes_completed", "passes_tried", "shots", "running_share", "collisions_per_minute",
         "collisions", "ball_reach_median_s", "ball_reach_mean_s")

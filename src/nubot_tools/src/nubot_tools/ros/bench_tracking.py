@@ -30,8 +30,8 @@ from nubot_common.geometry import Pose2D, rotate
 from nubot_common.world_description import WorldDescription
 from nubot_control.motion import MotionController
 from nubot_control.params import MotionParams
-from nubot_tools import WORKSPACE
 from nubot_tools.processes import RosMaster, wait_until
+from nubot_tools.workspace import WORKSPACE
 
 P0 = (-6.0, -3.0)
 WAYPOINTS = ((-2.0, 2.0), (2.0, -2.0), (6.0, 2.0))

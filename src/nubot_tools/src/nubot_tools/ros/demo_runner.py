@@ -18,8 +18,8 @@ import time
 from datetime import datetime
 from pathlib import Path
 
-from nubot_tools import WORKSPACE
 from nubot_tools.processes import RosMaster
+from nubot_tools.workspace import WORKSPACE
 
 
 class DemoWatcher:

@@ -20,10 +20,8 @@ import time
 from datetime import datetime
 from pathlib import Path
 
-from nubot_tools import WORKSPACE
 from nubot_tools.processes import RosMaster
-
-TEAMS = WORKSPACE / "src" / "nubot_control" / "config" / "teams"
+from nubot_tools.workspace import TEAMS, WORKSPACE
 
 
 class GameWatcher:
