@@ -20,19 +20,12 @@ from nubot_common.team_frame import TeamFrame
 
 
 @dataclass(frozen=True)
-class StartPose:
-    x: float  # team frame [m]
-    y: float
-    theta: float = 0.0  # [rad]
-
-
-@dataclass(frozen=True)
 class TeamConfig:
     name: str  # display name, e.g. NuBot
     prefix: str  # robot name prefix and team namespace, e.g. nubot
     attack: int  # 1 attacks the goal at +x (world), -1 the goal at -x
     goalie: int  # AgentID of the goalie
-    robots: tuple[StartPose, ...]
+    robots: tuple[Pose2D, ...]  # start poses, team frame [m], [rad]
     control_config: str = ""  # extra nubot_control YAML for this team (e.g. your own strategy's parameters)
 
     def __post_init__(self) -> None:
@@ -54,7 +47,7 @@ class TeamConfig:
         frame = TeamFrame(self.attack)
         poses = []
         for name, p in zip(self.robot_names(), self.robots):
-            pose = frame.pose_to_world(Pose2D(p.x, p.y, p.theta))
+            pose = frame.pose_to_world(p)
             poses.append((name, pose.x, pose.y, pose.theta))
         return poses
 
