@@ -44,6 +44,7 @@ class BallTrack:
     def __init__(self, keep: float):
         self.keep = keep  # observations older than this behind the newest are dropped [s]
         self._samples: deque[BallPercept] = deque()
+        self._fitted: tuple[object, tuple[float, float] | None] | None = None  # (key, velocity) of the last fit
 
     def __len__(self) -> int:
         return len(self._samples)
@@ -60,19 +61,28 @@ class BallTrack:
                 return
             self._samples.clear()  # the clock went back (simulator restarted)
         self._samples.append(obs)
+        self._fitted = None
         while self._samples[0].stamp < obs.stamp - self.keep:
             self._samples.popleft()
 
     def clear(self) -> None:
         self._samples.clear()
+        self._fitted = None
 
     def velocity(self, window: float, min_samples: int) -> tuple[float, float] | None:
-        """Least-squares velocity over the observations within ``window`` of the newest one."""
+        """Least-squares velocity over the observations within ``window`` of the newest one.
+
+        The fit depends on the observations only, so it is made once per new observation (a world
+        model asks for it several times a cycle: its snapshot, the packet it shares).
+        """
         latest = self.latest
         if latest is None:
             return None
-        recent = [(o.stamp, o.x, o.y) for o in self._samples if o.stamp >= latest.stamp - window]
-        return fit_velocity(recent, min_samples)
+        key = (window, min_samples)
+        if self._fitted is None or self._fitted[0] != key:
+            recent = [(o.stamp, o.x, o.y) for o in self._samples if o.stamp >= latest.stamp - window]
+            self._fitted = (key, fit_velocity(recent, min_samples))
+        return self._fitted[1]
 
 
 @dataclass(frozen=True)
