@@ -43,6 +43,7 @@ class ControlStep:
     command: RobotCommand
     report: StrategyReport
     output: ControlOutput | None  # the strategy's full output; None while the robot is not valid
+    stale: bool = False  # the world model is older than ``world_model_timeout``: standing still, out of play
 
 
 class Controller:
@@ -57,7 +58,14 @@ class Controller:
         self._last_request = -math.inf
 
     def step(self, t: float, world: WorldState) -> ControlStep:
-        """One control cycle at ``t`` [s] on the world model's decision ``world``."""
+        """One control cycle at ``t`` [s] on the world model's decision ``world``.
+
+        A decision older than ``world_model_timeout`` (the world model stopped) is not acted on: the robot
+        stands still, and the caller should stop announcing it to the team until a fresh one arrives.
+        """
+        if not t - world.stamp <= self.params.world_model_timeout:
+            self._dribble_on = False
+            return ControlStep(RobotCommand(), StrategyReport(t, self.agent_id, self.strategy.role), None, stale=True)
         state = team_state(world, t, self.params.play.goalie_id, self.world.field)
         if state is None:  # the robot does not know where it is (or is off the field): stand still
             self._dribble_on = False

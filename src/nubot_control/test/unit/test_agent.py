@@ -87,3 +87,22 @@ def test_a_robot_that_does_not_know_where_it_is_stands_still():
     step = agent.step(0.0)
     v = step.command.velocity
     assert (v.vx, v.vy, v.w, step.command.kick) == (0.0, 0.0, 0.0, None)
+
+
+def test_a_robot_whose_world_model_stopped_stands_still_until_a_fresh_one_arrives(make_match):
+    """The world model node died: control keeps being called with its last decision; after the timeout it
+    stops the robot and says it is out of play; the next fresh decision puts it back into play."""
+    match = make_match(TEAMS)
+    match.command("nubot", MatchMode.STARTROBOT)
+    match.run(1.0)
+    last = match.steps["nubot2"].world
+    controller = Controller(ControlParams(), WorldDescription(), 2)
+    timeout = controller.params.world_model_timeout
+    moving = controller.step(last.stamp + 0.5 * timeout, last)
+    assert not moving.stale and moving.command.dribble and moving.command.velocity.w != 0.0, "going for the ball"
+    for late in (1.01 * timeout, 5.0, 60.0):
+        step = controller.step(last.stamp + late, last)
+        v = step.command.velocity
+        assert step.stale and (v.vx, v.vy, v.w, step.command.kick, step.command.dribble) == (0, 0, 0, None, False)
+    back = controller.step(last.stamp, last)
+    assert not back.stale and back.output is not None
