@@ -382,6 +382,9 @@ def main(argv: list[str] | None = None) -> int:
     summary_json["field"].update(choice.to_json())
     report = {"bag": str(args.bag), **summary_json,
               "files": {"heatmap": "heatmap.png", "trajectories": "trajectories.png"}}
+    run = read_run(args.bag)
+    if run is not None:
+        report["run"] = run
     (out / "report.json").write_text(json.dumps(report, indent=2) + "\n")
     ball = summary.ball_in_play
     match_plots.plot_ball_heatmap(ball.xy, ball.seconds, world.field, out / "heatmap.png",
@@ -389,7 +392,24 @@ def main(argv: list[str] | None = None) -> int:
     match_plots.plot_trajectories(log.tracks, summary.teams, world.field, out / "trajectories.png",
                                   teleport_step=summary.teleport_step, title=f"Robot trajectories ({args.bag.name})")
     print(format_summary(summary, args.bag, out, choice.describe()))
+    if run is not None and run.get("ended") == "cut short":
+        print(f"  CUT SHORT at sim {run.get('sim_time', 0.0):.1f} s: {run.get('reason')}")
+    for event in (run or {}).get("events", []):
+        if not event.get("cut_short"):
+            print(f"  at sim {event.get('sim_time', 0.0):.1f} s: {event.get('event')}")
     return 0
+
+
+def read_run(bag: Path) -> dict | None:
+    """How the match runner says the match ended (``run.json`` beside the bag), if it left one."""
+    path = bag.parent / "run.json"
+    try:
+        run = json.loads(path.read_text())
+    except FileNotFoundError:
+        return None
+    except (OSError, ValueError) as exc:
+        return {"ended": "unknown", "reason": f"{path} unreadable: {exc}"}
+    return run if isinstance(run, dict) else {"ended": "unknown", "reason": f"{path} is not a JSON object"}
 
 
 if __name__ == "__main__":

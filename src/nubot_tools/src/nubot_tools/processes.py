@@ -50,6 +50,13 @@ class Launched:
         self.process = subprocess.Popen(self.args, env=env, stdout=self._log, stderr=subprocess.STDOUT,
                                         stdin=subprocess.DEVNULL, start_new_session=True,
                                         preexec_fn=_default_sigint)
+        self._seen: set[tuple[int, str]] = set()  # (pid, start time) of every descendant remember() saw
+
+    def remember(self) -> None:
+        """Note the processes below this one now: ``stop`` ends them even if their parent died in between
+        (a node whose launcher was killed is re-parented and would otherwise outlive the match)."""
+        self._seen |= {(pid, start) for pid in _descendants(self.process.pid)
+                       if (start := _start_time(pid)) is not None}
 
     def alive(self) -> bool:
         return self.process.poll() is None
@@ -64,6 +71,7 @@ class Launched:
         deadline = time.monotonic() + timeout
         # roslaunch puts each node in a process group of its own: remember them all before asking to stop.
         descendants = _descendants(self.process.pid)
+        descendants += [pid for pid, start in self._seen if pid not in descendants and _start_time(pid) == start]
         if self.alive():
             try:
                 os.killpg(self.process.pid, signal.SIGINT)
@@ -115,6 +123,12 @@ def _proc_stat(pid: int) -> list[str] | None:
         return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     except (OSError, IndexError):
         return None
+
+
+def _start_time(pid: int) -> str | None:
+    """When ``pid`` started (clock ticks after boot): with the pid, it names one process even if pids are reused."""
+    fields = _proc_stat(pid)
+    return fields[19] if fields is not None and len(fields) > 19 else None
 
 
 def _running(pid: int) -> bool:

@@ -15,12 +15,15 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import subprocess
 import sys
 import time
+from collections.abc import Callable
 from datetime import datetime
 from pathlib import Path
 
-from nubot_tools.processes import RosMaster
+from nubot_tools.node_watch import NodeEvent, NodeWatch
+from nubot_tools.processes import Launched, RosMaster
 from nubot_tools.workspace import TEAMS, WORKSPACE
 
 
@@ -139,12 +142,83 @@ class PerfMonitor:
         }
 
 
+CUT_SHORT_STATUS = 3  # exit status of a match that did not reach full time
+RUN_FILE = "run.json"  # beside the bag: how the match ended, and every node that died or came back
+
+
+class MatchRun:
+    """Watches every node of the match: a dead simulator, recorder, referee or master cuts the match short;
+    a dead robot node (world_model, nubot_control, a team's relay) is reported and the match goes on."""
+
+    POLL = 0.5  # [s, wall]
+
+    def __init__(self, master: RosMaster, configs: list, out: Path):
+        nodes = {"/sim_visual": True, "/match_recorder": True, "/referee": True}
+        for config in configs:
+            nodes[f"/{config.prefix}/sim_interface"] = False
+            for name in config.robot_names():
+                nodes |= {f"/{name}/world_model": False, f"/{name}/nubot_control": False}
+        self.master = master
+        self.watch = NodeWatch(master.uri, nodes)
+        self.watcher = GameWatcher()
+        self.out = out
+        self.ended: str | None = None  # why the match was cut short; None while it runs or at full time
+        self.events: list[dict] = []
+        self._next_poll = 0.0
+
+    def _note(self, text: str, **extra: object) -> None:
+        clock = self.watcher.clock
+        self.events.append({"sim_time": round(clock, 2), "wall_time": datetime.now().isoformat(timespec="seconds"),
+                            "event": text, **extra})
+        print(f"  [{_clock(clock)}] {text}", flush=True)
+
+    def cut_short(self, reason: str) -> None:
+        if self.ended is None:
+            self.ended = reason
+            self._note(f"MATCH CUT SHORT: {reason}", cut_short=True)
+
+    def check(self, **launches: Launched) -> bool:
+        """Poll the nodes (at most every POLL s); True once the match must end."""
+        if time.monotonic() < self._next_poll:
+            return self.ended is not None
+        self._next_poll = time.monotonic() + self.POLL
+        for child in self.master.children:
+            child.remember()
+        events: list[NodeEvent] = self.watch.poll()
+        for event in events:
+            if event.change != "up":
+                self._note(event.describe(), node=event.node, change=event.change, critical=event.critical)
+            if event.critical and event.change == "died":
+                self.cut_short(event.describe())
+        for name, launched in launches.items():
+            if not launched.alive():
+                self.cut_short(f"the {name}'s launch ended (status {launched.process.returncode})")
+        return self.ended is not None
+
+    def finish(self, bag: Path) -> None:
+        """After the recorder stopped: recover a bag it could not close, and write RUN_FILE."""
+        active = bag.with_name(bag.name + ".active")
+        if active.exists() and not bag.exists():
+            done = subprocess.run(["rosbag", "reindex", "-q", str(active)], capture_output=True, text=True)
+            if done.returncode == 0:
+                active.rename(bag)
+                active.with_name(f"{bag.name}.orig.active").unlink(missing_ok=True)  # reindex's backup
+                self._note(f"the recorder did not close {bag.name}; reindexed what it had written")
+            else:
+                self._note(f"could not reindex {active.name}: {done.stderr.strip()}")
+        outcome = {"ended": "full time" if self.ended is None else "cut short", "reason": self.ended,
+                   "sim_time": round(self.watcher.clock, 2), "events": self.events}
+        (self.out / RUN_FILE).write_text(json.dumps(outcome, indent=2) + "\n")
+        if self.ended is not None:
+            print(f"  the match was cut short at sim {_clock(self.watcher.clock)}: {self.ended}", flush=True)
+
+
 def _clock(seconds: float) -> str:
     return f"{int(seconds // 60):02d}:{seconds % 60:04.1f}"
 
 
-def wait_for_robots(names: list[str], timeout: float) -> list[str]:
-    """Wait until every robot publishes its world model; return the ones still silent."""
+def wait_for_robots(names: list[str], timeout: float, stop: Callable[[], bool] = lambda: False) -> list[str]:
+    """Wait until every robot publishes its world model (or ``stop()`` says so); return the ones still silent."""
     import rospy
 
     from nubot_common.msg import WorldModelInfo
@@ -154,6 +228,8 @@ def wait_for_robots(names: list[str], timeout: float) -> list[str]:
                              lambda _m, n=n: heard.add(n), queue_size=1) for n in names]
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline and len(heard) < len(names):
+        if stop():
+            break
         time.sleep(0.2)
     for sub in subs:
         sub.unregister()
@@ -203,71 +279,79 @@ def main(argv: list[str] | None = None) -> int:
         os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
         import rospy
 
+        print(f"  ROS master {master.uri} (ROS_MASTER_URI for rostopic, rosbag or the coach)", flush=True)
         rospy.init_node("match_runner", disable_signals=True)
-        master.launch("sim", ["roslaunch", "--skip-log-check", "sim_visual", "match.launch",
-                              f"real_time_factor:={args.real_time_factor}", f"seed:={args.seed}",
-                              f"world:={world_path}"])
+        run = MatchRun(master, configs, out)
+        watcher = run.watcher
+        sim = master.launch("sim", ["roslaunch", "--skip-log-check", "sim_visual", "match.launch",
+                                    f"real_time_factor:={args.real_time_factor}", f"seed:={args.seed}",
+                                    f"world:={world_path}"])
         rospy.wait_for_service("/sim_visual/spawn_model", timeout=60)
-        recorder = master.launch("recorder", ["rosbag", "record", "-a", "-O", str(bag), "__name:=match_recorder"])
+        # A recorder that dies leaves match.bag.active: MatchRun.finish reindexes it into match.bag. What it
+        # loses is the chunk it was filling: 256 KB, about 0.3 s of a 5 vs 5 match.
+        recorder = master.launch("recorder", ["rosbag", "record", "-a", "--chunksize=256", "-O", str(bag),
+                                              "__name:=match_recorder"])
         tracker = ["--tracker", args.tracker] if args.tracker else []
         for team_file, config in zip(teams, configs):
             master.launch(f"team_{config.prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
                                                     str(team_file), *tracker])
         names = [n for c in configs for n in c.robot_names()]
-        silent = wait_for_robots(names, timeout=180)
-        if silent:
-            print(f"  robots without a world model after 180 s: {', '.join(silent)}; playing on", flush=True)
-        print(f"  {len(names) - len(silent)} robots ready; kick-off", flush=True)
-        teams_yaml = out / "referee_teams.yaml"
-        teams_yaml.write_text("teams:\n" + "".join(f"  - {{prefix: {c.prefix}, attack: {c.attack}}}\n"
-                                                     for c in configs))
-        referee = master.launch("referee", ["roslaunch", "--skip-log-check", "coach4sim", "referee.launch",
-                                            f"half_duration:={args.half_seconds}", f"halves:={args.halves}",
-                                            f"config:={teams_yaml}"])
-        watcher = GameWatcher()
-        perf = PerfMonitor(names, master.children) if args.perf_json else None
-        perf_started = False
-        wall_start, last_line = time.monotonic(), 0.0
-        limit = 120.0 + 3.0 * game_seconds / max(args.real_time_factor, 0.05)
-        while True:
-            s = watcher.state
-            if s is not None and s.half >= args.halves and s.game_time >= args.half_seconds - 0.05 and not s.running:
-                break
-            if not referee.alive():
-                print("  the referee stopped unexpectedly", flush=True)
-                break
-            if time.monotonic() - wall_start > limit:
-                print("  wall-clock limit reached; ending the match", flush=True)
-                break
-            if time.monotonic() - last_line >= 5.0:
-                last_line = time.monotonic()
-                print(watcher.line(), flush=True)
-                if perf is not None:
-                    if perf_started:
-                        perf.sample()
-                    elif s is not None:
-                        perf.begin(watcher.clock)
-                        perf_started = True
-            time.sleep(0.1)
-        print(watcher.line(), flush=True)
-        elapsed = time.monotonic() - wall_start
-        print(f"  full time after {elapsed:.0f} s wall ({watcher.clock / max(elapsed, 1e-6):.2f} x real time); "
-              "closing the bag", flush=True)
-        if perf is not None and perf_started:
-            figures = perf.result(watcher.clock)
-            args.perf_json.parent.mkdir(parents=True, exist_ok=True)
-            args.perf_json.write_text(json.dumps(figures, indent=2))
-            print(f"  performance: real-time factor {figures['achieved_real_time_factor']}, slowest control loop "
-                  f"{figures['control_rate_min_hz']} Hz, missed cycles {100 * figures['missed_cycle_share']:.1f} %, "
-                  f"CPU {figures['cpu_cores_total']} of {figures['cpus']} cores, memory {figures['rss_mib_total']} MiB",
-                  flush=True)
+        silent = wait_for_robots(names, timeout=180, stop=lambda: run.check(simulator=sim))
+        if run.ended is None:
+            if silent:
+                print(f"  robots without a world model after 180 s: {', '.join(silent)}; playing on", flush=True)
+            print(f"  {len(names) - len(silent)} robots ready; kick-off", flush=True)
+            teams_yaml = out / "referee_teams.yaml"
+            teams_yaml.write_text("teams:\n" + "".join(f"  - {{prefix: {c.prefix}, attack: {c.attack}}}\n"
+                                                         for c in configs))
+            referee = master.launch("referee", ["roslaunch", "--skip-log-check", "coach4sim", "referee.launch",
+                                                f"half_duration:={args.half_seconds}", f"halves:={args.halves}",
+                                                f"config:={teams_yaml}"])
+            perf = PerfMonitor(names, master.children) if args.perf_json else None
+            perf_started = False
+            wall_start, last_line = time.monotonic(), 0.0
+            limit = 120.0 + 3.0 * game_seconds / max(args.real_time_factor, 0.05)
+            while True:
+                s = watcher.state
+                if s is not None and s.half >= args.halves and s.game_time >= args.half_seconds - 0.05 \
+                        and not s.running:
+                    break
+                if run.check(simulator=sim, referee=referee):
+                    break
+                if time.monotonic() - wall_start > limit:
+                    run.cut_short("the wall-clock limit was reached")
+                    break
+                if time.monotonic() - last_line >= 5.0:
+                    last_line = time.monotonic()
+                    print(watcher.line(), flush=True)
+                    if perf is not None:
+                        if perf_started:
+                            perf.sample()
+                        elif s is not None:
+                            perf.begin(watcher.clock)
+                            perf_started = True
+                time.sleep(0.1)
+            print(watcher.line(), flush=True)
+            elapsed = time.monotonic() - wall_start
+            print(f"  {'full time' if run.ended is None else 'match over'} after {elapsed:.0f} s wall "
+                  f"({watcher.clock / max(elapsed, 1e-6):.2f} x real time); closing the bag", flush=True)
+            if perf is not None and perf_started:
+                figures = perf.result(watcher.clock)
+                args.perf_json.parent.mkdir(parents=True, exist_ok=True)
+                args.perf_json.write_text(json.dumps(figures, indent=2))
+                print(f"  performance: real-time factor {figures['achieved_real_time_factor']}, slowest control "
+                      f"loop {figures['control_rate_min_hz']} Hz, missed cycles "
+                      f"{100 * figures['missed_cycle_share']:.1f} %, CPU {figures['cpu_cores_total']} of "
+                      f"{figures['cpus']} cores, memory {figures['rss_mib_total']} MiB", flush=True)
         recorder.stop(timeout=20)
         rospy.signal_shutdown("match over")
-    if args.no_report:
-        return 0
+    run.finish(bag)
+    status = 0 if run.ended is None else CUT_SHORT_STATUS
+    if args.no_report or not bag.exists():
+        return status
     from nubot_tools import match_report
 
-    return match_report.main([str(bag), "--out", str(out)])
+    return match_report.main([str(bag), "--out", str(out)]) or status
 
 
 if __name__ == "__main__":
