@@ -1,10 +1,12 @@
-"""Pure cores: no module under src/<pkg>/src/ imports rospy (STYLE.md practice 1).
+"""Pure cores: no module under src/<pkg>/src/ imports rospy (STYLE.md practice 1); scripts stay two lines;
+launch files clear each node's private parameters before loading its own.
 
-The one exception is ``nubot_tools.ros``: tools that drive a ROS graph from outside (the match runner,
+The one exception to pure cores is ``nubot_tools.ros``: tools that drive a ROS graph from outside (the match runner,
 the spawner, the benchmarks), as ``rostopic`` does; no robot or simulator decision lives there.
 """
 
 import ast
+import xml.etree.ElementTree as ElementTree
 from pathlib import Path
 
 WORKSPACE_SRC = Path(__file__).resolve().parents[2]
@@ -32,3 +34,19 @@ def test_scripts_are_two_lines_around_a_package_module():
         code = [line for line in path.read_text().splitlines() if line.strip() and not line.startswith("#")]
         assert len(code) == 2 and code[0].startswith("from nubot_tools") and "sys.path" not in path.read_text(), \
             f"{path.name}: {code}"
+
+
+def test_every_launch_clears_what_it_loads_before_loading_it():
+    """A key left on a shared roscore by an earlier launch (a typo the node refused) must not refuse the next one:
+    each node's private namespace and /world are cleared before a launch loads them."""
+    launches = sorted(WORKSPACE_SRC.glob("*/launch/*.launch"))
+    assert launches, "no launch files found"
+    keeping = []
+    for path in launches:
+        root = ElementTree.parse(path).getroot()
+        keeping += [f"{path.name}: node {node.get('name')}" for node in root.iter("node")
+                    if node.get("clear_params") != "true"]
+        keeping += [f"{path.name}: /world" for group in root.iter("group")
+                    if group.get("ns") == "/world" and group.get("clear_params") != "true"]
+        keeping += [f"{path.name}: /world" for rosparam in root.iter("rosparam") if rosparam.get("ns") == "/world"]
+    assert not keeping, f"loaded without clear_params=\"true\": {keeping}"
