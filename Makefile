@@ -5,8 +5,9 @@ HALF_SECONDS ?= 90
 TRACKER ?= mpc
 FIELD ?= 18x12
 DEMO_SECONDS ?= 60
+SOAK_HALF_SECONDS ?= 900
 
-.PHONY: setup match demo test unit integration bench lint clean
+.PHONY: setup match demo test unit integration bench soak lint clean
 
 setup:
 	@bash scripts/setup.sh
@@ -30,6 +31,10 @@ bench: setup
 	@$(ROS) python scripts/bench_sim.py --out bench/results
 	@$(ROS) python scripts/bench_tracking.py --out bench/results
 	@$(ROS) python scripts/bench_match.py --out bench/results
+
+# A full-length match (2 x 15 min) with every process's RSS and CPU sampled every 10 s: soak/soak.{json,png}.
+soak: setup
+	@$(ROS) python scripts/soak.py --half-seconds $(SOAK_HALF_SECONDS) --out soak
 
 lint: setup
 	@.venv/bin/ruff check src scripts

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from nubot_tools.node_watch import NodeEvent, NodeWatch
 from nubot_tools.processes import Launched, RosMaster
+from nubot_tools.resources import ResourceLog
 from nubot_tools.workspace import TEAMS, WORKSPACE
 
 
@@ -246,6 +247,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=WORKSPACE / "matches")
     parser.add_argument("--no-report", action="store_true")
     parser.add_argument("--perf-json", type=Path, help="measure real-time factor, control rates, CPU and memory")
+    parser.add_argument("--resources-json", type=Path,
+                        help="sample every process's RSS and CPU every --resources-period s into this file")
+    parser.add_argument("--resources-period", type=float, default=10.0, help="[s, wall]")
     parser.add_argument("--tracker", choices=("mpc", "baseline"), default="",
                         help="the motion layer's tracker of every robot (default: as configured, mpc)")
     parser.add_argument("--field", default="18x12",
@@ -308,6 +312,9 @@ def main(argv: list[str] | None = None) -> int:
                                                 f"half_duration:={args.half_seconds}", f"halves:={args.halves}",
                                                 f"config:={teams_yaml}"])
             perf = PerfMonitor(names, master.children) if args.perf_json else None
+            resources = ResourceLog(lambda: [c.process.pid for c in [master.core, *master.children] if c is not None],
+                                    lambda: watcher.clock) if args.resources_json else None
+            next_sample = 0.0
             perf_started = False
             wall_start, last_line = time.monotonic(), 0.0
             limit = 120.0 + 3.0 * game_seconds / max(args.real_time_factor, 0.05)
@@ -321,6 +328,9 @@ def main(argv: list[str] | None = None) -> int:
                 if time.monotonic() - wall_start > limit:
                     run.cut_short("the wall-clock limit was reached")
                     break
+                if resources is not None and time.monotonic() >= next_sample:
+                    next_sample = time.monotonic() + args.resources_period
+                    resources.sample(time.monotonic())
                 if time.monotonic() - last_line >= 5.0:
                     last_line = time.monotonic()
                     print(watcher.line(), flush=True)
@@ -335,6 +345,8 @@ def main(argv: list[str] | None = None) -> int:
             elapsed = time.monotonic() - wall_start
             print(f"  {'full time' if run.ended is None else 'match over'} after {elapsed:.0f} s wall "
                   f"({watcher.clock / max(elapsed, 1e-6):.2f} x real time); closing the bag", flush=True)
+            if resources is not None:
+                resources.save(args.resources_json)
             if perf is not None and perf_started:
                 figures = perf.result(watcher.clock)
                 args.perf_json.parent.mkdir(parents=True, exist_ok=True)
