@@ -3,7 +3,15 @@
 import pytest
 
 from nubot_common import NubotCommonError
-from nubot_common.naming import RobotName, check_team_prefix, is_robot_name, parse_robot_name, team_of
+from nubot_common.naming import (
+    RobotName,
+    RobotNodeParams,
+    check_team_prefix,
+    is_robot_name,
+    parse_robot_name,
+    team_of,
+)
+from nubot_common.params import from_mapping
 
 
 @pytest.mark.parametrize(("name", "team", "agent_id"), [
@@ -37,3 +45,23 @@ def test_robot_names_order_by_team_then_agent_id():
     assert [str(n) for n in names] == ["nubot2", "nubot10", "rival2"]
     with pytest.raises(NubotCommonError, match="an AgentID is a whole number from 1, got 0"):
         RobotName("nubot", 0)
+
+
+@pytest.mark.parametrize(("data", "robot", "agent"), [
+    ({}, "nubot1", 1), ({"robot": "rival3"}, "rival3", 3), ({"robot": "rival3", "agent_id": 2}, "rival3", 2)])
+def test_a_robot_node_plays_as_the_agent_id_in_its_name_unless_told_otherwise(data, robot, agent):
+    params = from_mapping(RobotNodeParams, data, "~")
+    assert (params.robot, params.name, params.agent) == (robot, parse_robot_name(robot), agent)
+
+
+@pytest.mark.parametrize(("data", "message"), [
+    ({"robot": "nubot1/"}, r"^~: robot: a robot name is a team prefix and an AgentID from 1 .*got 'nubot1/'$"),
+    ({"robot": 5}, r"^~\.robot: expected a string, got 5$"),
+    ({"agent_id": 2.5}, r"^~\.agent_id: expected an integer, got 2\.5$"),
+    ({"agent_id": True}, r"^~\.agent_id: expected an integer, got True$"),
+    ({"agent_id": -1}, r"^~: agent_id must be an AgentID from 1 \(0: the one in robot\), got -1$"),
+    ({"robt": "nubot2"}, r"^~: unknown parameter\(s\) robt; known: agent_id, robot$"),
+])
+def test_a_bad_robot_node_parameter_is_refused_by_name(data, message):
+    with pytest.raises(NubotCommonError, match=message):
+        from_mapping(RobotNodeParams, data, "~")

@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import os
 import queue
+import re
 import signal
 import subprocess
 import sys
@@ -130,10 +131,34 @@ def leftovers(master: str) -> list[str]:
     return found
 
 
+def listeners(pids: set[int]) -> dict[str, list[str]]:
+    """The TCP listening addresses of these processes, by executable name."""
+    table = subprocess.run(["ss", "-ltnpH"], capture_output=True, text=True, check=True).stdout
+    found: dict[str, list[str]] = {}
+    for line in table.splitlines():
+        for name, pid in re.findall(r'\("([^"]+)",pid=(\d+)', line):
+            if int(pid) in pids:
+                found.setdefault(name, []).append(line.split()[3])
+    return found
+
+
+def match_pids(runner: int) -> set[int]:
+    import psutil
+
+    return {p.pid for p in psutil.Process(runner).children(recursive=True)} | {runner}
+
+
 def test_dead_robot_nodes_are_reported_and_a_dead_recorder_cuts_the_match_short_with_its_bag_recovered(tmp_path):
     match = RunningMatch(tmp_path, half_seconds=120)
     match.wait_for("kickoff for")
     time.sleep(4.0)
+    # Every node of ours listens on loopback only; ROS's own C++ rosout and rosbag record open their XML-RPC
+    # server on every address (xmlrpcpp has no option for it): the README says how to confine them.
+    found = listeners(match_pids(match.process.pid))
+    assert len(found) >= 8, found
+    ours = {name: addrs for name, addrs in found.items() if name not in ("rosout", "record")}
+    assert all(a.startswith("127.0.0.1:") for addrs in ours.values() for a in addrs), ours
+    assert all(sum(not a.startswith("127.0.0.1:") for a in found.get(n, [])) <= 1 for n in ("rosout", "record"))
     killed_at = match.sim_time()
     match.kill("/nubot2/world_model")
     match.wait_for("node /nubot2/world_model died", timeout=10)

@@ -5,6 +5,7 @@ robot-name prefix and the goal it attacks), ``RefereeParams`` (the rules' number
 match's ``WorldDescription``, used by ``referee.AutomaticReferee``) and ``RefereeNodeParams``
 (those plus what the referee node needs: teams, auto mode, publishing periods, the
 simulator's namespace). The node takes the world from /world, as every node of a match.
+``COACH_PERIODS``: the range of periods [s] at which CoachInfo may be sent, by the referee or the coach.
 """
 
 from __future__ import annotations
@@ -18,6 +19,8 @@ from nubot_common.field import FieldGeometry
 from nubot_common.naming import check_team_prefix
 from nubot_common.params import require_non_negative, require_positive
 from nubot_common.world_description import WorldDescription
+
+COACH_PERIODS = (0.005, 10.0)  # CoachInfo at most 200 times a second and at least once in 10 s [s]
 
 
 @dataclass(frozen=True)
@@ -110,6 +113,9 @@ class RefereeNodeParams(RefereeParams):
     def __post_init__(self) -> None:
         super().__post_init__()
         validate_teams(self.teams)
-        require_positive(self, "republish_period", "state_period")
+        require_positive(self, "state_period")
+        low, high = COACH_PERIODS
+        if not low <= self.republish_period <= high:
+            raise ValueError(f"republish_period must lie in [{low:g}, {high:g}] s, got {self.republish_period}")
         if not self.sim_namespace.startswith("/"):
             raise ValueError(f"sim_namespace must be absolute (start with /), got {self.sim_namespace!r}")

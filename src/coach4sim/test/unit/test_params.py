@@ -38,7 +38,9 @@ def test_teams_come_from_a_list_of_mappings():
     ({"teams": [{"prefix": "nubot", "attack": 0}]}, "attack must be 1 or -1, got 0"),
     ({"setup_time": 0.0}, "setup_time must be positive"),
     ({"halves": 0}, "halves must be at least 1"),
-    ({"republish_period": -0.03}, "republish_period must be positive"),
+    ({"republish_period": -0.03}, r"republish_period must lie in \[0.005, 10\] s, got -0.03"),
+    ({"republish_period": 1e300}, r"republish_period must lie in \[0.005, 10\] s, got 1e\+300"),  # wait() overflowed
+    ({"republish_period": 1e-12}, r"republish_period must lie in \[0.005, 10\] s, got 1e-12"),  # a busy loop
     ({"stuck_tme": 5.0}, "unknown parameter"),
     ({"half_duration": "long"}, "half_duration: expected a number"),
     ({"goal_kick_distance": 8.5}, "past the halfway line"),

@@ -2,10 +2,11 @@
 
 Provides: ``RobotName`` (team, agent_id; ``str()`` gives the model name back), ``parse_robot_name``
 (raises ``NubotCommonError`` naming the bad name), ``team_of`` (a model name's team, or the
-name itself for a model that is no robot, e.g. ``football``), ``is_robot_name`` and
-``check_team_prefix``. The model name prefixes every topic and service of its robot in
-simulation (``/rival3/nubotcontrol/velcmd``); the team prefix names the team's namespace
-(``/rival/receive_from_coach``).
+name itself for a model that is no robot, e.g. ``football``), ``is_robot_name``,
+``check_team_prefix`` and ``RobotNodeParams`` (``~robot`` and ``~agent_id`` of a per-robot node;
+a node with parameters of its own subclasses it). The model name prefixes every topic and service
+of its robot in simulation (``/rival3/nubotcontrol/velcmd``); the team prefix names the team's
+namespace (``/rival/receive_from_coach``).
 """
 
 from __future__ import annotations
@@ -46,6 +47,32 @@ def parse_robot_name(name: str) -> RobotName:
     if match is None or int(match["number"]) < 1:
         raise NubotCommonError(f"a robot name is a team prefix and an AgentID from 1 (e.g. nubot2), got {name!r}")
     return RobotName(match["team"], int(match["number"]))
+
+
+@dataclass(frozen=True)
+class RobotNodeParams:
+    """Which robot a per-robot node serves, read with ``nubot_common.params.from_mapping``."""
+
+    robot: str = "nubot1"  # model name <team prefix><AgentID>: the prefix of the robot's topics
+    agent_id: int = 0  # the robot's AgentID; 0: the one in ``robot``
+
+    def __post_init__(self) -> None:
+        try:
+            parse_robot_name(self.robot)
+        except NubotCommonError as exc:
+            raise NubotCommonError(f"robot: {exc}") from None
+        if self.agent_id < 0:
+            raise NubotCommonError(f"agent_id must be an AgentID from 1 (0: the one in robot), got {self.agent_id}")
+
+    @property
+    def name(self) -> RobotName:
+        """``robot``, parsed: its team prefix and the AgentID in it."""
+        return parse_robot_name(self.robot)
+
+    @property
+    def agent(self) -> int:
+        """The AgentID the node plays as: ``agent_id``, or the one in ``robot``."""
+        return self.agent_id or self.name.agent_id
 
 
 def is_robot_name(name: str) -> bool:
