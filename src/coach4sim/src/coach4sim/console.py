@@ -3,7 +3,8 @@
 Requires: command-line arguments, prompt lines, and plain views of a robot's world model
 (``WatchView``: positions in the team's own field frame [m], own goal at -x).
 Provides: ``parse_args`` -> ``CoachArgs`` (raises ``CoachUsageError``, exit status 2, on
-bad usage or an unknown command), ``parse_console_line`` -> ``ConsoleInput``,
+bad usage, an unknown command, or a ``--period`` [s] outside ``COACH_PERIODS`` or a ``--duration`` [s]
+outside (0, ``MAX_DURATION``]), ``parse_console_line`` -> ``ConsoleInput``,
 ``help_text``, ``render_watch`` (a few lines and a small character map of the field)
 and ``describe_sent``. No ROS here; ``nodes/coach`` does the talking.
 """
@@ -17,7 +18,7 @@ from dataclasses import dataclass
 from typing import Literal, NoReturn
 
 from coach4sim import CoachError
-from coach4sim.params import TeamSpec
+from coach4sim.params import COACH_PERIODS, TeamSpec
 from nubot_common import NubotCommonError
 from nubot_common.field import FieldGeometry
 from nubot_common.match_mode import MatchMode, parse_match_mode
@@ -25,6 +26,7 @@ from nubot_common.match_mode import MatchMode, parse_match_mode
 COMMAND_SERVICE = "/referee/command"
 STATE_TOPIC = "/referee/state"
 USAGE_STATUS = 2
+MAX_DURATION = 4 * 3600.0  # --duration at most this long [s]; a longer session is --console's
 
 
 class CoachUsageError(CoachError):
@@ -45,8 +47,8 @@ class CoachArgs:
     team: str = "nubot"
     mode: MatchMode | None = None  # the command to send (action "send")
     robot: str = ""  # the robot to watch (action "watch")
-    duration: float = 2.0  # without a referee, publish the command this long [s]
-    period: float = 0.03  # ... this often [s] (the original coach's 30 ms)
+    duration: float = 2.0  # without a referee, publish the command this long [s], in (0, MAX_DURATION]
+    period: float = 0.03  # ... this often [s] (the original coach's 30 ms), within COACH_PERIODS
     count: int = 0  # watch: stop after this many views; 0 never
 
 
@@ -66,8 +68,11 @@ def _parser() -> _Parser:
     parser.add_argument("--team", default="nubot", help="team prefix the command is for (default nubot)")
     parser.add_argument("--console", action="store_true", help="interactive prompt")
     parser.add_argument("--watch", metavar="ROBOT", default="", help="print ROBOT's world model once a second")
-    parser.add_argument("--duration", type=float, default=2.0, help="without a referee: publish this long [s]")
-    parser.add_argument("--period", type=float, default=0.03, help="without a referee: publish this often [s]")
+    parser.add_argument("--duration", type=float, default=2.0,
+                        help=f"without a referee: publish this long [s] (default 2, at most {MAX_DURATION:g})")
+    parser.add_argument("--period", type=float, default=0.03,
+                        help=f"without a referee: publish this often [s] (default 0.03, from {COACH_PERIODS[0]:g} "
+                             f"to {COACH_PERIODS[1]:g})")
     parser.add_argument("--count", type=int, default=0, help="--watch: stop after this many views (0 never)")
     return parser
 
@@ -84,8 +89,11 @@ def parse_args(argv: Sequence[str]) -> CoachArgs:
         TeamSpec(ns.team)
     except ValueError as exc:
         raise CoachUsageError(f"--team: {exc}") from None
-    if not (ns.duration > 0.0 and ns.period > 0.0 and math.isfinite(ns.duration) and math.isfinite(ns.period)):
-        raise CoachUsageError(f"--duration and --period must be positive, got {ns.duration} and {ns.period}")
+    low, high = COACH_PERIODS
+    if not low <= ns.period <= high:
+        raise CoachUsageError(f"--period must lie in [{low:g}, {high:g}] s, got {ns.period:g}")
+    if not 0.0 < ns.duration <= MAX_DURATION:
+        raise CoachUsageError(f"--duration must be positive and at most {MAX_DURATION:g} s, got {ns.duration:g}")
     if ns.count < 0:
         raise CoachUsageError(f"--count must not be negative, got {ns.count}")
     common = {"team": ns.team, "duration": ns.duration, "period": ns.period, "count": ns.count}

@@ -43,12 +43,24 @@ def test_console_and_watch_modes():
     ([], "give exactly one of COMMAND, --console or --watch ROBOT$"),
     (["1", "--console"], r"\(got COMMAND and --console\)"),
     (["1", "--team", "nubot1"], "--team: a team prefix is letters and underscores"),
-    (["1", "--duration", "0"], "--duration and --period must be positive"),
+    (["1", "--duration", "0"], r"--duration must be positive and at most 14400 s, got 0$"),
+    (["1", "--duration", "5e4"], r"--duration must be positive and at most 14400 s, got 50000$"),
+    (["1", "--duration", "nan"], r"--duration must be positive and at most 14400 s, got nan$"),
+    (["1", "--period", "1e300"], r"--period must lie in \[0.005, 10\] s, got 1e\+300$"),
+    (["1", "--period", "30"], r"--period must lie in \[0.005, 10\] s, got 30$"),
+    (["1", "--period", "0.001"], r"--period must lie in \[0.005, 10\] s, got 0.001$"),
+    (["1", "--period", "inf"], r"--period must lie in \[0.005, 10\] s, got inf$"),
     (["1", "--bogus"], "unrecognized arguments: --bogus"),
 ])
 def test_bad_usage_is_refused_with_a_clear_message(argv, message):
     with pytest.raises(CoachUsageError, match=message):
         parse_args(argv)
+
+
+@pytest.mark.parametrize(("period", "duration"), [(0.005, 14400.0), (10.0, 0.5)])
+def test_period_and_duration_at_the_ends_of_their_ranges_are_accepted(period, duration):
+    args = parse_args(["1", "--period", str(period), "--duration", str(duration)])
+    assert (args.period, args.duration) == (period, duration)
 
 
 @pytest.mark.parametrize(("line", "kind", "mode"), [
