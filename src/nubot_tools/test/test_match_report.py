@@ -17,8 +17,10 @@ from x = 9.5 m straight at +x at 3 s (behind the goal line of an 18 m field, 1.5
 """
 
 import dataclasses
+import errno
 import json
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -361,6 +363,30 @@ def test_unknown_field_exits_2(match_bag, tmp_path, capsys):
     assert match_report.main([str(match_bag), "--field", str(tmp_path / "nope.yaml"), "--out", str(tmp_path)]) == 2
     assert "bad field: no world description" in capsys.readouterr().err
     assert not (tmp_path / "report.json").exists()
+
+
+def test_an_out_folder_below_a_file_exits_2_naming_it(match_bag, tmp_path, capsys):
+    notes = tmp_path / "notes.txt"
+    notes.write_text("not a folder\n")
+    assert match_report.main([str(match_bag), "--out", str(notes / "report")]) == 2
+    assert f"match_report: error: cannot write the report to {notes / 'report'}: Not a directory (choose " \
+        "another folder with --out)" in capsys.readouterr().err
+    assert [p.name for p in tmp_path.iterdir()] == ["notes.txt"] and notes.read_text() == "not a folder\n"
+
+
+def test_a_report_that_cannot_be_finished_leaves_the_earlier_one_whole(match_bag, tmp_path, capsys, monkeypatch):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "report.json").write_text("the earlier report\n")
+
+    def disk_full(*_args, **_kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(match_plots, "plot_trajectories", disk_full)  # report.json and heatmap.png made by then
+    assert match_report.main([str(match_bag), "--out", str(out)]) == 2
+    assert f"cannot write the report to {out}: No space left on device" in capsys.readouterr().err
+    assert [p.name for p in out.iterdir()] == ["report.json"]
+    assert (out / "report.json").read_text() == "the earlier report\n"
 
 
 def test_field_flags_refine_the_bag_s_field(match_bag, tmp_path):

@@ -21,8 +21,8 @@ definition has one and it is > 0, else the latest ``/clock`` before them (else t
 minus the typical lag of the stamped messages); samples sharing one time are spread out up to the
 next (``match_analysis.spread_repeated_times``).
 The statistics are defined in ``match_analysis`` (and in report.json under "definitions").
-Exit status: 0 on success, 2 for a missing or unreadable bag or one without any expected topic, or a
-bad field.
+Exit status: 0 on success, 2 for a missing or unreadable bag or one without any expected topic, a
+bad field, or an ``--out`` that cannot hold the report (then no file of the report is written).
 """
 
 from __future__ import annotations
@@ -30,8 +30,11 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import os
 import re
+import shutil
 import sys
+import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -63,6 +66,7 @@ COACH_TYPE = "nubot_common/msg/CoachInfo"
 DEFAULT_FIELD = "18x12"
 PROGRESS_STEPS = 10  # progress lines per bag
 PROGRESS_MIN_MESSAGES = 10_000  # smaller bags read in a blink: no progress lines
+REPORT_FILES = ("report.json", "heatmap.png", "trajectories.png")  # what a report writes into --out
 
 
 class MatchReportError(Exception):
@@ -377,7 +381,6 @@ def main(argv: list[str] | None = None) -> int:
         summary.warnings.insert(0, f"no world description in the bag ({WORLD_TOPIC}) and no --field: using the "
                                    f"default {world.name} field")
     out = args.out if args.out is not None else args.bag.parent
-    out.mkdir(parents=True, exist_ok=True)
     summary_json = summary.to_json()
     summary_json["field"].update(choice.to_json())
     report = {"bag": str(args.bag), **summary_json,
@@ -385,12 +388,20 @@ def main(argv: list[str] | None = None) -> int:
     run = read_run(args.bag)
     if run is not None:
         report["run"] = run
-    (out / "report.json").write_text(json.dumps(report, indent=2) + "\n")
     ball = summary.ball_in_play
-    match_plots.plot_ball_heatmap(ball.xy, ball.seconds, world.field, out / "heatmap.png",
-                                  title=f"Ball heat map ({args.bag.name})")
-    match_plots.plot_trajectories(log.tracks, summary.teams, world.field, out / "trajectories.png",
-                                  teleport_step=summary.teleport_step, title=f"Robot trajectories ({args.bag.name})")
+
+    def draw(folder: Path) -> None:
+        match_plots.plot_ball_heatmap(ball.xy, ball.seconds, world.field, folder / "heatmap.png",
+                                      title=f"Ball heat map ({args.bag.name})")
+        match_plots.plot_trajectories(log.tracks, summary.teams, world.field, folder / "trajectories.png",
+                                      teleport_step=summary.teleport_step,
+                                      title=f"Robot trajectories ({args.bag.name})")
+
+    try:
+        write_report(out, report, draw)
+    except MatchReportError as exc:
+        print(f"match_report: error: {exc}", file=sys.stderr)
+        return 2
     print(format_summary(summary, args.bag, out, choice.describe()))
     if run is not None and run.get("ended") == "cut short":
         print(f"  CUT SHORT at sim {run.get('sim_time', 0.0):.1f} s: {run.get('reason')}")
@@ -398,6 +409,26 @@ def main(argv: list[str] | None = None) -> int:
         if not event.get("cut_short"):
             print(f"  at sim {event.get('sim_time', 0.0):.1f} s: {event.get('event')}")
     return 0
+
+
+def write_report(out: Path, report: dict[str, Any], draw: Callable[[Path], None]) -> None:
+    """Write ``report`` as report.json and the PNGs ``draw(folder)`` makes into ``out`` (created if need be), all
+    or none: they are made in a hidden folder inside ``out`` and moved into place once all exist, so a failure
+    (not a folder, no room) leaves an earlier report whole. Raise ``MatchReportError`` naming ``out``."""
+    staging: Path | None = None
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=".match_report-", dir=out))
+        (staging / "report.json").write_text(json.dumps(report, indent=2) + "\n")
+        draw(staging)
+        for name in REPORT_FILES:
+            os.replace(staging / name, out / name)
+    except OSError as exc:
+        raise MatchReportError(f"cannot write the report to {out}: {exc.strerror or exc} "
+                               "(choose another folder with --out)") from None
+    finally:
+        if staging is not None:
+            shutil.rmtree(staging, ignore_errors=True)
 
 
 def read_run(bag: Path) -> dict | None:
