@@ -3,7 +3,8 @@
 Modules: ``params`` (typed configuration), ``world`` (ODE physics layer),
 ``rules`` (the model plugin's rules: clamping, dribbling, kicking),
 ``sensing`` (noisy omni-vision frames), ``simulator`` (the step loop tying them
-together), ``demo`` (the single-robot behaviour) and ``teleop`` (key bindings).
+together), ``rejections`` (throttled reports of refused inputs), ``demo`` (the
+single-robot behaviour) and ``teleop`` (key bindings).
 """
 
 

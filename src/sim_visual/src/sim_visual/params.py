@@ -4,22 +4,85 @@ Provides frozen, validated dataclasses; all values SI (m, kg, s, rad unless a
 name says ``_deg``). ``SimConfig`` is the whole configuration; ``PluginParams``
 and ``NoiseParams`` are the run-time reconfigurable part. The field, the goals and
 the bodies are the match's ``WorldDescription`` (``SimConfig.world``): the node
-reads it from /world, as every other node does.
+reads it from /world, as every other node does. ``SimInterfaceParams`` configures
+the team relay node.
+
+Also the one home of the simulator's limits: ``PLUGIN_UPPER_BOUNDS``, ``NOISE_UPPER_BOUNDS``
+and ``REAL_TIME_FACTOR_MAX`` (checked here and used as the dynamic_reconfigure ranges),
+``MAX_ROBOTS``, ``MAX_BALL_SPEED``, ``MAX_BALL_HEIGHT``, ``MAX_RELAY_RATE`` and
+``require_in_arena`` (where a body may be put: inside the lines plus the border, up to the
+walls' inner faces).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from dataclasses import field as dc_field
+from types import MappingProxyType
 
 from nubot_common import NubotCommonError
 from nubot_common.field import FieldGeometry
-from nubot_common.naming import parse_robot_name
+from nubot_common.naming import check_team_prefix, parse_robot_name
 from nubot_common.params import require_non_negative, require_positive
 from nubot_common.world_description import BallBody, RobotBody, WorldDescription
+from sim_visual import SimVisualError
 
 MAX_STEP_SIZE = 0.007  # [s], chapter Table 2
+MAX_GRAVITY = 50.0  # [m/s^2], about 5 g: stronger gravity is no soccer field
+
+# Upper bounds of the reconfigurable parameters; with 0 below (refused by those that must be
+# positive) they are the ranges dynamic_reconfigure offers.
+# Speeds: a robot or ball must move less per ODE step than the 0.2 m walls are thick, or it can
+# pass through them; at the largest step (0.007 s) 10 m/s is 7 cm and 15 m/s is 10.5 cm.
+PLUGIN_UPPER_BOUNDS: Mapping[str, float] = MappingProxyType({
+    "dribble_distance": 1.0,  # [m]; robot and ball touch at 0.37 m, no grabber reaches 1 m
+    "dribble_angle_deg": 180.0,  # [deg]; the whole front half
+    "hold_distance": 1.0,  # [m]; farther, a held ball would pass through other robots
+    "max_linear_speed": 10.0,  # [m/s]; twice the fastest MSL robots (about 5 m/s, chapter 1)
+    "max_angular_speed": 30.0,  # [rad/s]; about 5 turns a second
+    "command_timeout": 10.0,  # [s]
+    "kick_max_speed": 15.0,  # [m/s]; above the hardest MSL kicks (about 12 m/s)
+    "kick_recapture_delay": 5.0,  # [s]
+    "lob_horizontal_speed": 15.0,  # [m/s]; a lob is a kick: kick_max_speed's bound
+    "lob_max_flight_time": 5.0,  # [s]
+    "lob_bar_margin": 1.0,  # [m]; the bar is 1 m high
+    "lob_default_distance": 30.0,  # [m]; longer than the 22 m field
+    "stuck_time": 10.0,  # [s]
+})
+NOISE_UPPER_BOUNDS: Mapping[str, float] = MappingProxyType({
+    "position_std": 5.0,  # [m]
+    "velocity_std": 5.0,  # [m/s]
+    "self_position_std": 5.0,  # [m]
+    "heading_std": math.pi,  # [rad]
+    "vision_range": 100.0,  # [m]; the 22 x 14 m field's diagonal is 26 m
+})
+REAL_TIME_FACTOR_MAX = 100.0  # sim seconds per wall second (0, as fast as possible, also allowed)
+
+MAX_ROBOTS = 20  # two teams of ten (five players and five more for tests or substitutes)
+# A ball set from outside (set_model_state) may move at most twice as fast as the hardest kick
+# allowed: 0.21 m per 0.007 s step, less than its diameter plus a net's 2 cm, so it cannot pass
+# through a net. Its spin is bounded by rolling at that speed (MAX_BALL_SPEED / radius).
+MAX_BALL_SPEED = 2.0 * PLUGIN_UPPER_BOUNDS["kick_max_speed"]  # [m/s]
+MAX_BALL_HEIGHT = 20.0  # [m]; a kick at 15 m/s straight up peaks at 11.5 m
+MAX_RELAY_RATE = 1000.0  # sim_interface's rate [Hz]; far faster than any sender (control: 33 Hz)
+
+
+def _require_at_most(obj: object, bounds: Mapping[str, float]) -> None:
+    for name, high in bounds.items():
+        if not getattr(obj, name) <= high:
+            raise ValueError(f"{name} must be at most {high:g}, got {getattr(obj, name)}")
+
+
+def require_in_arena(what: str, x: float, y: float, field: FieldGeometry) -> None:
+    """Raise ``SimVisualError`` naming ``what`` unless (x, y) [m] is finite and inside the arena's walls."""
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise SimVisualError(f"{what} must be at a finite position, got ({x}, {y})")
+    if not field.is_inside(x, y, field.border):
+        raise SimVisualError(
+            f"{what} at ({x:g}, {y:g}) is outside the arena: |x| <= {field.half_length + field.border:g} m "
+            f"and |y| <= {field.half_width + field.border:g} m (the lines plus the {field.border:g} m border)")
 
 
 @dataclass(frozen=True)
@@ -30,8 +93,8 @@ class PhysicsParams:
     def __post_init__(self) -> None:
         if not 0.0 < self.step_size <= MAX_STEP_SIZE:
             raise ValueError(f"step_size must lie in (0, {MAX_STEP_SIZE}] s, got {self.step_size}")
-        if not self.gravity < 0.0:
-            raise ValueError(f"gravity must be negative (down), got {self.gravity}")
+        if not -MAX_GRAVITY <= self.gravity < 0.0:
+            raise ValueError(f"gravity must be negative (down) and at least -{MAX_GRAVITY:g}, got {self.gravity}")
 
 
 @dataclass(frozen=True)
@@ -57,8 +120,8 @@ class PluginParams:
                   "kick_max_speed", "lob_horizontal_speed", "lob_max_flight_time", "lob_default_distance",
                   "stuck_time")
         require_non_negative(self, "command_timeout", "kick_recapture_delay", "lob_bar_margin")
-        if not 0.0 < self.dribble_angle_deg <= 180.0:
-            raise ValueError(f"dribble_angle_deg must lie in (0, 180], got {self.dribble_angle_deg}")
+        require_positive(self, "dribble_angle_deg")
+        _require_at_most(self, PLUGIN_UPPER_BOUNDS)
 
     @property
     def dribble_half_angle(self) -> float:
@@ -79,6 +142,7 @@ class NoiseParams:
     def __post_init__(self) -> None:
         require_non_negative(self, "position_std", "velocity_std", "self_position_std", "heading_std",
                       "vision_range")
+        _require_at_most(self, NOISE_UPPER_BOUNDS)
 
 
 @dataclass(frozen=True)
@@ -98,6 +162,8 @@ class RobotSpawn:
             raise ValueError(str(exc)) from None
         if self.attack not in (1, -1):
             raise ValueError(f"attack must be 1 or -1, got {self.attack}")
+        if not math.isfinite(self.theta):
+            raise ValueError(f"{self.name}'s heading theta must be finite, got {self.theta}")
 
 
 @dataclass(frozen=True)
@@ -114,6 +180,13 @@ class SimConfig:
         names = [r.name for r in self.robots]
         if len(set(names)) != len(names):
             raise ValueError(f"robot names must be unique, got {names}")
+        if len(self.robots) > MAX_ROBOTS:
+            raise ValueError(f"at most {MAX_ROBOTS} robots, got {len(self.robots)}")
+        for robot in self.robots:
+            require_in_arena(f"{robot.name}'s start", robot.x, robot.y, self.field)
+        require_in_arena("ball_start", *self.ball_start, self.field)
+        if self.seed < 0:
+            raise ValueError(f"seed must not be negative, got {self.seed}")
 
     @property
     def field(self) -> FieldGeometry:
@@ -145,4 +218,24 @@ class SimNodeParams:
 
     def __post_init__(self) -> None:
         require_non_negative(self, "real_time_factor")
+        if not self.real_time_factor <= REAL_TIME_FACTOR_MAX:
+            raise ValueError(f"real_time_factor must be at most {REAL_TIME_FACTOR_MAX:g}, got {self.real_time_factor}")
         require_positive(self, "model_states_rate", "vision_rate", "clock_rate")
+
+
+@dataclass(frozen=True)
+class SimInterfaceParams:
+    """Parameters of the team relay node (sim_interface)."""
+
+    team: str = "nubot"  # the team's prefix; its members are <team>1 .. <team><team_size>
+    team_size: int = 5  # number of members, 1 .. MAX_ROBOTS
+    max_age: float = 1.0  # messages older than this are no longer relayed [s]
+    rate: float = 30.0  # relayed messages out [Hz, sim time]
+
+    def __post_init__(self) -> None:
+        check_team_prefix(self.team)
+        if not 1 <= self.team_size <= MAX_ROBOTS:
+            raise ValueError(f"team_size must lie in [1, {MAX_ROBOTS}], got {self.team_size}")
+        require_positive(self, "max_age", "rate")
+        if not self.rate <= MAX_RELAY_RATE:
+            raise ValueError(f"rate must be at most {MAX_RELAY_RATE:g} Hz, got {self.rate}")

@@ -6,22 +6,34 @@ services (``model_states``, ``set_model_state``, ``reset``, ``spawn_robot``,
 ``delete_robot``), ``switch_ends`` (half time), ``observe`` (noisy omni-vision frame of one robot) and ``step``
 which returns the events of that step (goals, kicks, captures). All randomness
 comes from one ``numpy.random.Generator`` seeded by ``SimConfig.seed``.
+Every state from outside is checked before it reaches ODE (finite, inside the arena, speeds within
+the limits of ``sim_visual.params``); a refusal raises ``SimVisualError`` and changes nothing.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import astuple, dataclass, replace
 
 import numpy as np
 
 from nubot_common.commands import BodyVelocity, KickKind
+from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate
 from nubot_common.naming import parse_robot_name
 from nubot_common.percepts import RobotView
 from nubot_common.team_frame import TeamFrame
 from sim_visual import SimVisualError
-from sim_visual.params import NoiseParams, PluginParams, RobotSpawn, SimConfig
+from sim_visual.params import (
+    MAX_BALL_HEIGHT,
+    MAX_BALL_SPEED,
+    MAX_ROBOTS,
+    NoiseParams,
+    PluginParams,
+    RobotSpawn,
+    SimConfig,
+    require_in_arena,
+)
 from sim_visual.rules import (
     clamp_command,
     dribble_condition,
@@ -110,7 +122,7 @@ class Simulator:
         self.holder: str | None = None
         self.last_touch = ""
         self._reported_touch = ""
-        self._goal_latched = False
+        self._over_goal_line = False  # the ball was wholly beyond a goal line: no goal until it is back in play
         for spawn in config.robots:
             self.spawn_robot(spawn)
         self._place_ball_start()
@@ -123,6 +135,9 @@ class Simulator:
     def spawn_robot(self, spawn: RobotSpawn) -> None:
         if spawn.name in self.plugins or spawn.name == self.config.ball_name:
             raise SimVisualError(f"a model named {spawn.name!r} already exists")
+        if len(self.plugins) >= MAX_ROBOTS:
+            raise SimVisualError(f"cannot spawn {spawn.name!r}: the simulator holds at most {MAX_ROBOTS} robots")
+        require_in_arena(spawn.name, spawn.x, spawn.y, self.config.field)
         self.world.add_robot(spawn.name, spawn.x, spawn.y, spawn.theta)
         self.plugins[spawn.name] = RobotPlugin(spawn, parse_robot_name(spawn.name).agent_id)
 
@@ -141,7 +156,12 @@ class Simulator:
 
     def _place_ball_start(self) -> None:
         bx, by = self.config.ball_start
-        self.world.set_ball_state(BallState(bx, by, self.config.ball.radius, 0.0, 0.0, 0.0))
+        self._put_ball(BallState(bx, by, self.config.ball.radius, 0.0, 0.0, 0.0))
+
+    def _put_ball(self, state: BallState) -> None:
+        """Place the ball from outside play: a ball put beyond a goal line has not crossed it."""
+        self.world.set_ball_state(state)
+        self._over_goal_line = abs(state.x) > self.config.field.half_length + self.config.ball.radius
 
     def reset(self) -> None:
         """Put every robot and the ball back where they started, at rest; time keeps running."""
@@ -152,7 +172,6 @@ class Simulator:
             self.plugins[name] = RobotPlugin(s, plugin.agent_id)
         self._place_ball_start()
         self.last_touch = self._reported_touch = ""
-        self._goal_latched = False
 
     def switch_ends(self) -> None:
         """Half time: every robot attacks the other goal and is turned half round the centre spot, at rest.
@@ -171,8 +190,7 @@ class Simulator:
             self.plugins[name] = RobotPlugin(spawn, plugin.agent_id, dribble_enabled=plugin.dribble_enabled)
         b = self.world.ball_state()
         bx, by = turn.point_to_world(b.x, b.y)
-        self.world.set_ball_state(BallState(bx, by, max(b.z, self.config.ball.radius), 0.0, 0.0, 0.0))
-        self._goal_latched = False
+        self._put_ball(BallState(bx, by, max(b.z, self.config.ball.radius), 0.0, 0.0, 0.0))
 
     def model_states(self) -> list[tuple[str, RobotState | BallState]]:
         states: list[tuple[str, RobotState | BallState]] = [(n, self.world.robot_state(n)) for n in self.plugins]
@@ -180,19 +198,45 @@ class Simulator:
         return states
 
     def set_model_state(self, name: str, state: RobotState | BallState) -> None:
+        """Put a model in ``state``; raise ``SimVisualError`` naming the bad value, changing nothing."""
         if name == self.config.ball_name:
             if not isinstance(state, BallState):
                 raise SimVisualError("the ball needs a BallState")
-            _require_finite(state.__dict__.values(), name)
+            self._check_ball_state(state)
             self._release()
-            self.world.set_ball_state(state)
-            self._goal_latched = False
+            self._put_ball(state)
             return
         self._plugin(name)
         if not isinstance(state, RobotState):
             raise SimVisualError(f"robot {name!r} needs a RobotState")
-        _require_finite(state.__dict__.values(), name)
+        self._check_robot_state(name, state)
         self.world.set_robot_state(name, state)
+
+    def _check_robot_state(self, name: str, s: RobotState) -> None:
+        _require_finite(name, s)
+        require_in_arena(name, s.x, s.y, self.config.field)
+        p = self.plugin_params
+        speed = math.hypot(s.vx, s.vy)
+        if speed > p.max_linear_speed:
+            raise SimVisualError(f"{name}'s speed {speed:g} m/s exceeds max_linear_speed {p.max_linear_speed:g} m/s")
+        if abs(s.w) > p.max_angular_speed:
+            raise SimVisualError(f"{name}'s turn rate {s.w:g} rad/s exceeds max_angular_speed "
+                                 f"{p.max_angular_speed:g} rad/s")
+
+    def _check_ball_state(self, s: BallState) -> None:
+        name, field = self.config.ball_name, self.config.field
+        _require_finite(name, s)
+        if not _is_in_goal(field, s.x, s.y, s.z):
+            require_in_arena(name, s.x, s.y, field)
+        if not 0.0 <= s.z <= MAX_BALL_HEIGHT:
+            raise SimVisualError(f"{name}'s height z={s.z:g} m must lie in [0, {MAX_BALL_HEIGHT:g}] m")
+        speed = math.hypot(s.vx, s.vy, s.vz)
+        if speed > MAX_BALL_SPEED:
+            raise SimVisualError(f"{name}'s speed {speed:g} m/s exceeds {MAX_BALL_SPEED:g} m/s")
+        spin, max_spin = math.hypot(s.wx, s.wy, s.wz), MAX_BALL_SPEED / self.config.ball.radius
+        if spin > max_spin:
+            raise SimVisualError(f"{name}'s spin {spin:g} rad/s exceeds {max_spin:g} rad/s "
+                                 f"(rolling at {MAX_BALL_SPEED:g} m/s)")
 
     # --- the robot interface (Table 3) ------------------------------------------------------
     def command_velocity(self, name: str, vx: float, vy: float, w: float) -> tuple[BodyVelocity, bool]:
@@ -343,19 +387,25 @@ class Simulator:
         self.world.set_ball_collides_with(None)
 
     def _detect_goal(self) -> GoalScored | None:
+        """A goal: the whole ball crosses a goal line between the posts, under the bar, into the goal."""
         ball, field, r = self.world.ball_state(), self.config.field, self.config.ball.radius
         beyond = abs(ball.x) > field.half_length + r
         if not beyond:
             if abs(ball.x) < field.half_length:
-                self._goal_latched = False
+                self._over_goal_line = False
             return None
-        if self._goal_latched or not field.is_in_goal_mouth(ball.y, ball.z, r):
-            self._goal_latched = True
+        crossed, self._over_goal_line = not self._over_goal_line, True
+        if not crossed or not _is_in_goal(field, ball.x, ball.y, ball.z, r):
             return None
-        self._goal_latched = True
         return GoalScored(self.time, 1 if ball.x > 0 else -1, ball, self.last_touch)
 
 
-def _require_finite(values: object, name: str) -> None:
-    if not all(math.isfinite(v) for v in values):  # type: ignore[attr-defined]
-        raise SimVisualError(f"state for {name!r} must be finite")
+def _is_in_goal(field: FieldGeometry, x: float, y: float, z: float, radius: float = 0.0) -> bool:
+    """True when a ball of ``radius`` centred at (x, y, z) lies wholly behind a goal line inside that goal."""
+    return (field.half_length + radius <= abs(x) <= field.half_length + field.goal_depth
+            and field.is_in_goal_mouth(y, z, radius))
+
+
+def _require_finite(name: str, state: RobotState | BallState) -> None:
+    if not all(math.isfinite(v) for v in astuple(state)):
+        raise SimVisualError(f"state for {name!r} must be finite, got {state}")

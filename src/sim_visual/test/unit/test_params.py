@@ -42,3 +42,66 @@ def test_bad_values_are_named():
 
 def test_dribble_half_angle_is_half_the_cone():
     assert PluginParams(dribble_angle_deg=30.0).dribble_half_angle == pytest.approx(0.2617993878)
+
+
+def test_every_reconfigurable_parameter_has_an_upper_bound_that_is_enforced():
+    import dataclasses
+
+    from sim_visual.params import NOISE_UPPER_BOUNDS, PLUGIN_UPPER_BOUNDS, NoiseParams
+
+    for cls, bounds in ((PluginParams, PLUGIN_UPPER_BOUNDS), (NoiseParams, NOISE_UPPER_BOUNDS)):
+        assert set(bounds) == {f.name for f in dataclasses.fields(cls)}
+        for name, high in bounds.items():
+            cls(**{name: high})
+            with pytest.raises(ValueError, match=f"{name} must be at most {high:g}, got"):
+                cls(**{name: high * 1.01})
+
+
+def test_physically_absurd_values_are_refused_with_their_bound():
+    with pytest.raises(NubotCommonError, match="max_linear_speed must be at most 10, got 100"):
+        from_mapping(SimConfig, {"plugin": {"max_linear_speed": 100.0}})
+    with pytest.raises(NubotCommonError, match="real_time_factor must be at most 100, got 1000"):
+        from_mapping(SimNodeParams, {"real_time_factor": 1000.0})
+    with pytest.raises(ValueError, match=r"gravity must be negative \(down\) and at least -50, got -1000000000000"):
+        PhysicsParams(gravity=-1e12)
+    with pytest.raises(ValueError, match="seed must not be negative, got -1"):
+        SimConfig(seed=-1)
+
+
+def test_start_poses_must_lie_inside_the_arena_of_the_world():
+    from nubot_common.world_description import load_world
+
+    with pytest.raises(NubotCommonError, match=r"nubot1's start at \(1e\+12, 0\) is outside the arena"):
+        from_mapping(SimConfig, {"robots": [{"name": "nubot1", "x": 1e12}]})
+    with pytest.raises(NubotCommonError, match=r"ball_start at \(0, 1e\+12\) is outside the arena"):
+        from_mapping(SimConfig, {"ball_start": [0.0, 1e12]})
+    with pytest.raises(ValueError, match="nubot1's heading theta must be finite, got nan"):
+        RobotSpawn("nubot1", theta=float("nan"))
+    with pytest.raises(ValueError, match=r"outside the arena: \|x\| <= 10 m"):
+        SimConfig(robots=(RobotSpawn("nubot1", 11.5),))
+    assert SimConfig(world=load_world("22x14"), robots=(RobotSpawn("nubot1", 11.5),)).robots[0].x == 11.5
+
+
+def test_the_robot_list_is_limited():
+    from sim_visual.params import MAX_ROBOTS
+
+    robots = [{"name": f"nubot{k}", "x": 0.4 * k - 8.0} for k in range(1, MAX_ROBOTS + 2)]
+    with pytest.raises(NubotCommonError, match=f"at most {MAX_ROBOTS} robots, got {MAX_ROBOTS + 1}"):
+        from_mapping(SimConfig, {"robots": robots})
+    assert len(from_mapping(SimConfig, {"robots": robots[:MAX_ROBOTS]}).robots) == MAX_ROBOTS
+
+
+@pytest.mark.parametrize(("params", "message"), [
+    ({"rate": 0}, "rate must be positive, got 0"),
+    ({"rate": 1e9}, "rate must be at most 1000 Hz"),
+    ({"team_size": 0}, r"team_size must lie in \[1, 20\], got 0"),
+    ({"team": "nubot1"}, "a team prefix is letters and underscores"),
+    ({"team": 7}, "team: expected a string, got 7"),
+    ({"max_age": -1.0}, "max_age must be positive, got -1"),
+])
+def test_sim_interface_parameters_are_checked(params, message):
+    from sim_visual.params import SimInterfaceParams
+
+    assert from_mapping(SimInterfaceParams, {"team": "rival", "team_size": 3}).team_size == 3
+    with pytest.raises(NubotCommonError, match=message):
+        from_mapping(SimInterfaceParams, params, "~")

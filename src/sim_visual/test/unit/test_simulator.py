@@ -272,3 +272,90 @@ def test_switching_ends_keeps_every_robot_where_it_was_in_its_own_team_frame(mak
     sim.reset()
     start = sim.world.robot_state("rival1")
     assert (start.x, start.y) == pytest.approx((-4.0, 2.0)), "reset uses the start poses of the new ends"
+
+
+# --- hostile input: refused with a message naming the bad value, nothing changed, the simulator still steps ---
+
+@pytest.mark.parametrize(("name", "state", "message"), [
+    ("nubot1", RobotState(1e10, 0.0, 0.0, 0.0, 0.0, 0.0), r"nubot1 at \(1e\+10, 0\) is outside the arena"),
+    ("nubot1", RobotState(0.0, -7.5, 0.0, 0.0, 0.0, 0.0), r"nubot1 at \(0, -7.5\) is outside the arena"),
+    ("nubot1", RobotState(0.0, 0.0, 0.0, 100.0, 0.0, 0.0), "speed 100 m/s exceeds max_linear_speed 5 m/s"),
+    ("nubot1", RobotState(0.0, 0.0, 0.0, 0.0, 0.0, 1e6), "turn rate 1e\\+06 rad/s exceeds max_angular_speed"),
+    ("football", BallState(1e10, 0.0, 0.11, 0.0, 0.0, 0.0), r"football at \(1e\+10, 0\) is outside the arena"),
+    ("football", BallState(50.0, 0.0, 0.11, 0.0, 0.0, 0.0), r"football at \(50, 0\) is outside the arena"),
+    ("football", BallState(0.0, 0.0, 0.11, 1e30, 0.0, 0.0), "speed 1e\\+30 m/s exceeds 30 m/s"),
+    ("football", BallState(0.0, 0.0, 1e5, 0.0, 0.0, 0.0), r"height z=100000 m must lie in \[0, 20\] m"),
+    ("football", BallState(0.0, 0.0, -1.0, 0.0, 0.0, 0.0), r"height z=-1 m must lie in \[0, 20\] m"),
+    ("football", BallState(0.0, 0.0, 0.11, 0.0, 0.0, 0.0, 0.0, 0.0, 1e4), "spin 10000 rad/s exceeds"),
+])
+def test_absurd_model_states_are_refused_and_change_nothing(make_sim, name, state, message):
+    sim = make_sim()
+    robot_before, ball_before = sim.world.robot_state("nubot1"), sim.world.ball_state()
+    with pytest.raises(SimVisualError, match=message):
+        sim.set_model_state(name, state)
+    assert sim.world.robot_state("nubot1") == robot_before and sim.world.ball_state() == ball_before
+    for _ in range(100):
+        sim.step()
+    assert sim.world.robot_state("nubot1").x == pytest.approx(0.0, abs=1e-6)
+
+
+def test_the_ball_may_be_put_into_a_goal_but_that_is_no_goal(make_sim, run):
+    sim = make_sim()
+    x = sim.config.field.half_length + 0.3
+    sim.set_model_state("football", BallState(x, 0.0, 0.11, 0.0, 0.0, 0.0))
+    assert sim.world.ball_state().x == pytest.approx(x)
+    assert not [e for e in run(sim, 1.0) if isinstance(e, GoalScored)], "it never crossed the goal line"
+    sim.set_model_state("football", BallState(8.0, 0.0, 0.11, 6.0, 0.0, 0.0, 0.0, 6.0 / 0.11, 0.0))
+    assert [g.side for g in run(sim, 1.0) if isinstance(g, GoalScored)] == [1], "rolled in from the field, it is"
+
+
+def test_a_ball_far_beyond_the_goal_line_is_no_goal(make_sim, run):
+    sim = make_sim(robots=())
+    sim.world.set_ball_state(BallState(50.0, 0.0, 0.11, 0.0, 0.0, 0.0))  # past the checks, e.g. a glitch
+    assert not [e for e in run(sim, 0.1) if isinstance(e, GoalScored)], "only a ball inside the goal scores"
+
+
+@pytest.mark.parametrize(("spawn", "message"), [
+    (("rival1", math.nan, 0.0, 0.0, -1), r"rival1 must be at a finite position, got \(nan, 0.0\)"),
+    (("rival1", 1e12, 0.0, 0.0, -1), r"rival1 at \(1e\+12, 0\) is outside the arena"),
+])
+def test_spawn_refuses_a_position_off_the_arena(make_sim, spawn, message):
+    from sim_visual.params import RobotSpawn
+
+    sim = make_sim()
+    with pytest.raises(SimVisualError, match=message):
+        sim.spawn_robot(RobotSpawn(*spawn))
+    assert sim.model_names == ["nubot1", "football"]
+    sim.step()
+
+
+def test_spawn_refuses_more_than_the_maximum_number_of_robots(make_sim):
+    from sim_visual.params import MAX_ROBOTS, RobotSpawn
+
+    sim = make_sim()
+    for k in range(2, MAX_ROBOTS + 1):
+        sim.spawn_robot(RobotSpawn(f"nubot{k}", -8.0 + 0.8 * k, 5.0))
+    with pytest.raises(SimVisualError, match=f"cannot spawn 'rival1': the simulator holds at most {MAX_ROBOTS}"):
+        sim.spawn_robot(RobotSpawn("rival1", 0.0, -5.0))
+    assert len(sim.plugins) == MAX_ROBOTS
+    sim.delete_robot("nubot2")
+    sim.spawn_robot(RobotSpawn("rival1", 0.0, -5.0))
+
+
+def test_a_huge_velocity_command_is_clamped_to_a_speed_the_walls_stop(make_sim, run):
+    from dataclasses import replace
+
+    from sim_visual.params import PLUGIN_UPPER_BOUNDS
+
+    sim = make_sim(robots=(("nubot1", 5.0, 0.0, 0.0),))
+    with pytest.raises(ValueError, match="max_linear_speed must be at most 10, got 1e"):
+        replace(sim.plugin_params, max_linear_speed=1e300)
+    sim.update_params(replace(sim.plugin_params, max_linear_speed=PLUGIN_UPPER_BOUNDS["max_linear_speed"]))
+    command, clamped = sim.command_velocity("nubot1", 1e200, 1e200, 0.0)
+    assert clamped and math.hypot(command.vx, command.vy) == pytest.approx(10.0)
+    for _ in range(400):  # 2 s at 10 m/s: far into the corner's walls
+        sim.command_velocity("nubot1", 1e200, 1e200, 0.0)
+        sim.step()
+    state = sim.world.robot_state("nubot1")
+    field = sim.config.field
+    assert field.is_inside(state.x, state.y, field.border), f"the walls hold the robot, got {state}"
