@@ -142,9 +142,10 @@ class AutomaticReferee:
         return self._check_stuck(snap)
 
     def _goal_by_geometry(self, x: float, y: float, z: float) -> int | None:
-        """A goal the simulator's event has not reported yet: the whole ball beyond the line, inside the mouth."""
+        """A goal the simulator's event has not reported yet: the whole ball beyond the line, inside the mouth,
+        and inside the goal (a ball far beyond the goal line, e.g. one set there by hand, is out, not a goal)."""
         f, r = self.params.field, self.params.ball_radius
-        if abs(x) > f.half_length + r and f.is_in_goal_mouth(y, z, r):
+        if f.half_length + r < abs(x) <= f.half_length + f.goal_depth and f.is_in_goal_mouth(y, z, r):
             return _sign(x)
         return None
 

@@ -127,6 +127,14 @@ def test_goal_is_seen_by_geometry_before_the_simulator_reports_it(match):
     assert "kickoff for nubot" in decision.event
 
 
+def test_a_ball_far_beyond_the_goal_line_in_line_with_the_goal_is_out_not_a_goal(match):
+    match.kickoff_and_play()
+    match.ball = (50.0, 0.0, 0.11)
+    decision = match.step(0.25, last_touch="nubot2")
+    assert match.game.state().score == (0, 0)
+    assert "goal kick for rival" in decision.event
+
+
 def test_out_with_no_known_toucher_is_a_dropped_ball_inside_the_field(match):
     match.kickoff_and_play()
     match.ball = (8.9, -6.4, 0.11)
