@@ -29,6 +29,7 @@ def test_launch_file_prefixes_every_robot():
     root = ET.fromstring(team_launch_xml(team))
     relay = root.find("node")
     assert relay.get("type") == "sim_interface" and relay.get("ns") == "rival"
+    assert relay.get("clear_params") == "true", "a key an earlier team launch left cannot refuse the relay"
     robots = [inc.find("arg[@name='robot']").get("value") for inc in root.findall("include")]
     assert robots == [f"rival{k}" for k in range(1, 6)]
     assert {inc.find("arg[@name='tracker']").get("value") for inc in root.findall("include")} == {""}
