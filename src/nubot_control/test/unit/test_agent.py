@@ -1,6 +1,8 @@
 """The RobotAgent and its control stage: what reaches the robot interface, and the world_model -> control seam."""
 
+import gc
 import math
+import tracemalloc
 
 import pytest
 
@@ -9,7 +11,7 @@ from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import MatchMode
 from nubot_common.naming import RobotName
 from nubot_common.percepts import BallPercept, RobotReport, RobotView
-from nubot_common.team_play import Role
+from nubot_common.team_play import Role, StrategyReport
 from nubot_common.world_description import WorldDescription
 from nubot_control.agent import DRIBBLE_RETRY, Controller, RobotAgent
 from nubot_control.params import ControlParams
@@ -106,3 +108,44 @@ def test_a_robot_whose_world_model_stopped_stands_still_until_a_fresh_one_arrive
         assert step.stale and (v.vx, v.vy, v.w, step.command.kick, step.command.dribble) == (0, 0, 0, None, False)
     back = controller.step(last.stamp, last)
     assert not back.stale and back.output is not None
+
+
+def test_a_robot_keeps_nothing_per_cycle_its_memory_stays_flat_after_a_warm_up():
+    """A robot's nodes run for hours at 33 Hz: a few hundred bytes kept per cycle would be a MiB a minute.
+    The scenario repeats every 400 cycles (set plays and open play, the ball held, lost and found again, the
+    robot on a circle among moving opponents). After two rounds to warm up, a third adds less than 32 KiB."""
+    agent = RobotAgent(RobotName("nubot", 2), WorldDescription())
+    modes = (MatchMode.OUR_KICKOFF, MatchMode.STARTROBOT, MatchMode.OPP_FREEKICK, MatchMode.STARTROBOT,
+             MatchMode.STOPROBOT)
+    period = 400  # cycles: 80 per command
+
+    def cycle(k: int) -> None:
+        t, a = k / 33, 2.0 * math.pi * k / period
+        if k % 80 == 0:
+            agent.on_coach(t, modes[k // 80 % len(modes)])
+        me = RobotReport(2, Pose2D(4.0 * math.cos(a), 3.0 * math.sin(a), a + 1.6), holding=100 <= k % period < 200)
+        ball = None if k % period >= 300 else BallPercept(t, 4.0 * math.sin(2.0 * a), 3.0 * math.sin(a))
+        seen = tuple((3.0 * math.cos(a + i), 2.0 * math.sin(a + i) + i - 1.0) for i in range(3))
+        agent.on_vision(RobotView(t, me, ball, seen))
+        for mate, role, x in ((1, Role.GOALIE, -8.0), (3, Role.PASSIVE, -3.0 + math.sin(a))):
+            agent.on_teammate(t, RobotView(t, RobotReport(mate, Pose2D(x, -3.0 + mate, 0.0), role=role)))
+            agent.on_teammate_strategy(t, StrategyReport(t, mate, role))
+        agent.step(t)
+
+    for k in range(period):
+        cycle(k)
+    started = not tracemalloc.is_tracing()
+    tracemalloc.start()
+    try:
+        for k in range(period, 2 * period):  # traced, so that the state the next round replaces counts
+            cycle(k)
+        gc.collect()
+        before = tracemalloc.get_traced_memory()[0]
+        for k in range(2 * period, 3 * period):
+            cycle(k)
+        gc.collect()
+        grown = tracemalloc.get_traced_memory()[0] - before
+    finally:
+        if started:
+            tracemalloc.stop()
+    assert grown < 32 * 1024, f"{grown} B kept over {period} cycles ({grown / period:.0f} B a cycle)"
