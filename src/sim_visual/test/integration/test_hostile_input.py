@@ -84,6 +84,28 @@ def test_reconfiguration_is_bounded_and_a_huge_command_stays_within_it(sim, sim_
     assert all(math.isfinite(v) for v in sim.state("nubot1"))
 
 
+def test_a_crawling_real_time_factor_can_be_undone(sim, sim_launch):
+    """A real_time_factor of 1e-9 set by reconfigure (one sim step per ~80 wall days) must not lock the simulator
+    in one long sleep: setting it back to 1 takes effect at once."""
+    import dynamic_reconfigure.client
+
+    process, _ = sim_launch
+    client = dynamic_reconfigure.client.Client("/sim_visual", timeout=10)
+    try:
+        client.update_configuration({"real_time_factor": 1e-9})
+        time.sleep(1.0)
+        client.update_configuration({"real_time_factor": 1.0})
+        clock = sim.clock
+        deadline = time.monotonic() + 5.0
+        while sim.clock < clock + 1.0 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert sim.clock >= clock + 1.0, "the clock runs again at real time"
+        assert process.alive()
+    finally:
+        client.update_configuration({"real_time_factor": 1.0})
+        client.close()
+
+
 def test_a_nan_flood_is_counted_in_a_few_log_lines(sim, sim_launch):
     import rospy
 
