@@ -220,6 +220,7 @@ def test_a_dead_simulator_referee_or_master_ends_the_match_at_once_with_a_comple
     folder = match.folder()
     run = json.loads((folder / RUN_FILE).read_text())
     assert run["ended"] == "cut short" and node in run["reason"]
-    assert bag_end(folder / "match.bag") >= before, "the bag is closed and holds the match up to the kill"
+    # up to the kill: the last clock ticks the simulator sent as it died may reach the runner and not the recorder
+    assert bag_end(folder / "match.bag") >= before - 0.1, "the bag is closed and holds the match up to the kill"
     assert json.loads((folder / "report.json").read_text())["run"]["ended"] == "cut short"
     assert leftovers(match.master) == [], "nothing of the match runs on"
