@@ -20,7 +20,6 @@ import time
 from pathlib import Path
 
 import pytest
-import yaml
 from rosbags.rosbag1 import Reader
 
 from nubot_tools.match_report import build_typestore
@@ -35,13 +34,7 @@ ROOT = Path(__file__).resolve().parents[3]
 class RunningMatch:
     """``run_match.py`` as a user starts it, with its output read line by line."""
 
-    def __init__(self, tmp_path: Path, half_seconds: float):
-        teams = []
-        for prefix, attack in (("nubot", 1), ("rival", -1)):
-            path = tmp_path / f"{prefix}.yaml"
-            path.write_text(yaml.safe_dump({"name": prefix.title(), "prefix": prefix, "attack": attack, "goalie": 1,
-                                            "robots": [{"x": -8.4, "y": 0.0}, {"x": -1.0, "y": 0.5}]}))
-            teams += ["--team", str(path)]
+    def __init__(self, tmp_path: Path, teams: list[str], half_seconds: float):
         self.out = tmp_path / "matches"
         self.process = subprocess.Popen(
             [sys.executable, str(ROOT / "scripts" / "run_match.py"), "--half-seconds", str(half_seconds),
@@ -148,8 +141,9 @@ def match_pids(runner: int) -> set[int]:
     return {p.pid for p in psutil.Process(runner).children(recursive=True)} | {runner}
 
 
-def test_dead_robot_nodes_are_reported_and_a_dead_recorder_cuts_the_match_short_with_its_bag_recovered(tmp_path):
-    match = RunningMatch(tmp_path, half_seconds=120)
+def test_dead_robot_nodes_are_reported_and_a_dead_recorder_cuts_the_match_short_with_its_bag_recovered(
+        tmp_path, two_vs_two):
+    match = RunningMatch(tmp_path, two_vs_two, half_seconds=120)
     match.wait_for("kickoff for")
     time.sleep(4.0)
     # Every node of ours listens on loopback only; ROS's own C++ rosout and rosbag record open their XML-RPC
@@ -199,8 +193,8 @@ def test_dead_robot_nodes_are_reported_and_a_dead_recorder_cuts_the_match_short_
 
 
 @pytest.mark.parametrize("node", ["/sim_visual", "/referee", "/master"])
-def test_a_dead_simulator_referee_or_master_ends_the_match_at_once_with_a_complete_bag(tmp_path, node):
-    match = RunningMatch(tmp_path, half_seconds=120)
+def test_a_dead_simulator_referee_or_master_ends_the_match_at_once_with_a_complete_bag(tmp_path, two_vs_two, node):
+    match = RunningMatch(tmp_path, two_vs_two, half_seconds=120)
     match.wait_for("kickoff for")
     time.sleep(3.0)
     before = match.sim_time()

@@ -7,7 +7,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import yaml
 
 from nubot_tools.match_report import read_match
 
@@ -16,17 +15,11 @@ pytestmark = pytest.mark.integration
 ROOT = Path(__file__).resolve().parents[3]
 
 
-def test_short_two_vs_two_match_on_the_22_by_14_field_is_recorded_and_reported(tmp_path):
+def test_short_two_vs_two_match_on_the_22_by_14_field_is_recorded_and_reported(tmp_path, two_vs_two):
     """``--field 22x14`` reaches every node: the simulator, the robots (the goalie's kickoff spot is on the
     22 x 14 goal line), the referee, and the report, which reads the field from the bag."""
-    teams = []
-    for prefix, attack in (("nubot", 1), ("rival", -1)):
-        path = tmp_path / f"{prefix}.yaml"
-        path.write_text(yaml.safe_dump({"name": prefix.title(), "prefix": prefix, "attack": attack, "goalie": 1,
-                                        "robots": [{"x": -8.4, "y": 0.0}, {"x": -1.0, "y": 0.5}]}))
-        teams += ["--team", str(path)]
     result = subprocess.run([sys.executable, str(ROOT / "scripts" / "run_match.py"), "--half-seconds", "20",
-                             "--halves", "1", "--field", "22x14", "--out", str(tmp_path / "matches"), *teams],
+                             "--halves", "1", "--field", "22x14", "--out", str(tmp_path / "matches"), *two_vs_two],
                             capture_output=True, text=True, timeout=400)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     assert "kickoff for nubot" in result.stdout, "the referee starts the match"
