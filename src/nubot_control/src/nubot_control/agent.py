@@ -30,6 +30,7 @@ from nubot_common.team_play import Role, StrategyReport
 from nubot_common.world_description import WorldDescription
 from nubot_common.world_state import CoachExtras, GameState, WorldState
 from nubot_control.params import ControlParams
+from nubot_control.plugins import strategy_class
 from nubot_control.strategy import ControlOutput, Strategy
 from nubot_control.team_state import team_state
 from world_model.params import WorldModelParams
@@ -53,7 +54,8 @@ class Controller:
         self.params = params
         self.world = world
         self.agent_id = agent_id
-        self.strategy = Strategy(params, world, agent_id)
+        cls = strategy_class(params.strategy) if params.strategy else Strategy
+        self.strategy = cls(params, world, agent_id)
         self._dribble_on = False
         self._last_request = -math.inf
 

@@ -72,6 +72,7 @@ class ControlParams:
     play: PlayParams = dc_field(default_factory=PlayParams)
     rate: float = 33.0  # control cycles per second [Hz] (chapter 4.4)
     world_model_timeout: float = 0.5  # a world model older than this is stale: the robot stops [s, sim time]
+    strategy: str = ""  # "" the built-in Strategy; else "package.module:Class" or "/abs/file.py:Class" (plugins)
 
     def __post_init__(self) -> None:
         require_positive(self, "rate", "world_model_timeout")

@@ -27,6 +27,7 @@ class TeamConfig:
     goalie: int  # AgentID of the goalie
     robots: tuple[Pose2D, ...]  # start poses, team frame [m], [rad]
     control_config: str = ""  # extra nubot_control YAML for this team (e.g. your own strategy's parameters)
+    strategy: str = ""  # your own strategy class, "package.module:Class" or "file.py:Class" (nubot_control.plugins)
 
     def __post_init__(self) -> None:
         try:
@@ -75,6 +76,7 @@ def team_launch_xml(team: TeamConfig, tracker: str = "") -> str:
                   f"    <arg name=\"goalie_id\" value=\"{team.goalie}\"/>",
                   f"    <arg name=\"config\" value={quoteattr(team.control_config)}/>",
                   f"    <arg name=\"tracker\" value={quoteattr(tracker)}/>",
+                  f"    <arg name=\"strategy\" value={quoteattr(team.strategy)}/>",
                   "  </include>"]
     lines.append("</launch>")
     return "\n".join(lines) + "\n"

@@ -19,12 +19,14 @@ import subprocess
 import sys
 import tempfile
 import time
+from dataclasses import replace
 from pathlib import Path
 
 from nubot_common import NubotCommonError
 from nubot_common.geometry import yaw_to_quaternion
 from nubot_common.params import load_yaml
 from nubot_common.world_description import WORLD_NAMESPACE, world_from_params
+from nubot_control.plugins import resolve_spec, strategy_class
 from nubot_control.team_config import TeamConfig, team_launch_xml
 
 
@@ -68,6 +70,9 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         team = load_yaml(TeamConfig, args.team_config)
+        team = replace(team, strategy=resolve_spec(team.strategy, args.team_config.parent))
+        if team.strategy:
+            strategy_class(team.strategy)  # refuse a strategy the robots could not load, before spawning
     except (OSError, NubotCommonError) as exc:
         print(f"spawn_team: {exc}", file=sys.stderr)
         return 2

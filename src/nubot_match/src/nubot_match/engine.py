@@ -1,0 +1,300 @@
+"""The lockstep engine: a whole refereed match in one process, without ROS, from the nodes' own cores.
+
+Requires: a ``MatchConfig`` (``nubot_match.config``) and a seed. Provides: ``LockstepMatch``:
+``reset(seed)`` builds the match (the ``Simulator`` with both teams at their start poses, one
+``RobotAgent`` per robot with its team's ``ControlParams`` and strategy, a ``TeamRelay`` per team, the
+``AutomaticReferee``); ``step()`` runs one control period; ``run()`` plays to the end. Every physics
+step (``sim.physics.step_size`` <= 7 ms) the schedule runs, in sim time, what the ROS match runs:
+
+- every robot's omni vision at ``vision_rate`` (30 Hz), into its world model;
+- every robot's control cycle at its ``ControlParams.rate`` (33 Hz): teammates' packets and strategies
+  from the relay (what the last cycle shared, as the relay node hands them on), ``RobotAgent.step``, and
+  its commands through the robot interface (velocity, BallHandle, Shoot);
+- the referee every ``referee_period`` (30 ms) on the latest model states, its decisions applied as the
+  referee node applies them (ball placed, ends switched, commands to every robot's world model);
+- the listeners (``nubot_match.record``): model states and /clock at ``model_states_rate`` (100 Hz),
+  every simulator event, the referee's state on change and every second, coach commands on change.
+
+``external`` robots are not driven by their agent: their command comes with ``step(actions)`` (the
+Gymnasium/PettingZoo environments); their world model still runs, so their teammates still hear them.
+All randomness is the simulator's one generator, seeded by ``reset(seed)``: a seed gives one match.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+
+from coach4sim.game import GameController, GameStateData
+from coach4sim.params import TeamSpec
+from coach4sim.referee import AutomaticReferee, GoalSeen, Phase, RefereeDecision, WorldSnapshot
+from nubot_common.commands import RobotCommand
+from nubot_common.match_mode import MatchMode
+from nubot_common.naming import parse_robot_name
+from nubot_common.percepts import RobotView
+from nubot_common.team_play import StrategyReport
+from nubot_control.agent import AgentStep, RobotAgent
+from nubot_match import NubotMatchError
+from nubot_match.config import MatchConfig
+from nubot_match.record import MatchListener
+from sim_visual.params import RobotSpawn, SimConfig
+from sim_visual.relay import TeamRelay
+from sim_visual.simulator import BallKicked, BallTouched, GoalScored, SimEvent, Simulator
+from sim_visual.world import BallState
+
+_EPS = 1e-9  # schedule tolerance [s]
+STATE_PERIOD = 1.0  # the referee's state is recorded at least this often [s] (referee.yaml state_period)
+
+
+class Periodic:
+    """Due times of one periodic task in sim time: due at 0, then every ``period`` [s], never drifting."""
+
+    def __init__(self, period: float, start: float = 0.0):
+        if not period > 0.0:
+            raise NubotMatchError(f"a period must be positive, got {period}")
+        self.period = period
+        self.count = 0
+        self.start = start
+
+    @property
+    def next(self) -> float:
+        return self.start + self.count * self.period
+
+    def due(self, t: float) -> bool:
+        """True (and advance) when ``t`` reached the next due time; one call fires at most once."""
+        if t + _EPS >= self.next:
+            self.count = max(self.count + 1, math.floor((t + _EPS - self.start) / self.period) + 1)
+            return True
+        return False
+
+
+@dataclass
+class MatchStep:
+    """What one ``step()`` did."""
+
+    time: float  # sim time at its end [s]
+    events: list[SimEvent] = field(default_factory=list)  # goals, kicks, touches, captures, releases
+    decisions: list[RefereeDecision] = field(default_factory=list)
+    done: bool = False  # the match is over (full time)
+
+
+class LockstepMatch:
+    def __init__(self, config: MatchConfig, listeners: Iterable[MatchListener] = (),
+                 external: Iterable[str] = ()):
+        self.config = config
+        self.listeners = list(listeners)
+        self.external = set(external)
+        unknown = self.external - set(config.robot_names)
+        if unknown:
+            raise NubotMatchError(f"external robots {sorted(unknown)} do not play in this match "
+                                  f"({', '.join(config.robot_names)})")
+        self.sim: Simulator | None = None
+        self.agents: dict[str, RobotAgent] = {}
+        self.steps: dict[str, AgentStep] = {}  # each robot's latest control cycle
+        self.seed: int | None = None
+
+    # --- set-up ----------------------------------------------------------------------------------
+    def reset(self, seed: int = 0) -> GameStateData:
+        """Build the match anew from ``seed`` (kick-off of the first half comes with the first step)."""
+        cfg = self.config.with_seed(seed)
+        self.seed = seed
+        spawns = tuple(RobotSpawn(name, x, y, yaw, t.config.attack)
+                       for t in cfg.teams for name, x, y, yaw in t.config.world_poses())
+        s = cfg.sim.sim
+        self.sim = Simulator(SimConfig(world=cfg.world, physics=s.physics, plugin=s.plugin, noise=s.noise,
+                                       robots=spawns, ball_start=s.ball_start, seed=s.seed))
+        self.agents = {}
+        self.control_period: dict[str, float] = {}
+        for team in cfg.teams:
+            for name in team.config.robot_names():
+                self.agents[name] = RobotAgent(parse_robot_name(name), cfg.world, cfg.world_model, team.control)
+                self.control_period[name] = 1.0 / team.control.rate
+        self.team_of = {name: parse_robot_name(name).team for name in self.agents}
+        self.members = {t.config.prefix: tuple(t.config.robot_names()) for t in cfg.teams}
+        self.packets = {team: TeamRelay[RobotView](team, names, cfg.relay_max_age)
+                        for team, names in self.members.items()}
+        self.strategies = {team: TeamRelay[StrategyReport](team, names, cfg.relay_max_age)
+                           for team, names in self.members.items()}
+        self.game = GameController([TeamSpec(t.config.prefix, t.config.attack) for t in cfg.teams])
+        self.referee = AutomaticReferee(cfg.referee, self.game)
+        self.steps = {}
+        self._vision = Periodic(1.0 / cfg.sim.vision_rate)
+        self._control = {period: Periodic(period) for period in set(self.control_period.values())}
+        self._judge = Periodic(cfg.referee_period)
+        self._states = Periodic(1.0 / cfg.sim.model_states_rate)
+        self._state_out = Periodic(STATE_PERIOD)
+        self._sent: dict[str, tuple[MatchMode, MatchMode]] = {}
+        self._published: GameStateData | None = None
+        self._seen_goals: list[GoalSeen] = []
+        self._seen_kicks: list[str] = []
+        self._seen_touches: list[str] = []
+        for listener in self.listeners:
+            listener.start(cfg.world, 0.0)
+        return self.game.state()
+
+    def _require_sim(self) -> Simulator:
+        if self.sim is None:
+            raise NubotMatchError("call reset(seed) before stepping the match")
+        return self.sim
+
+    # --- state ----------------------------------------------------------------------------------
+    @property
+    def time(self) -> float:
+        return self._require_sim().time
+
+    @property
+    def done(self) -> bool:
+        return self.sim is not None and self.referee.phase is Phase.FINISHED
+
+    def state(self) -> GameStateData:
+        return self.game.state()
+
+    # --- commands ----------------------------------------------------------------------------------
+    def command(self, team: str, mode: MatchMode | int | str) -> str:
+        """A coach command by hand (``/referee/command``); raises ``NubotCommonError`` if it is invalid."""
+        text = self.referee.manual_command(team, mode, self.time)
+        self._coach_all()
+        return text
+
+    # --- stepping -----------------------------------------------------------------------------------
+    def step(self, actions: Mapping[str, RobotCommand] | None = None,
+             seconds: float | None = None) -> MatchStep:
+        """Advance one control period (``seconds`` [s] if given); ``actions`` drive the external robots."""
+        sim = self._require_sim()
+        if actions:
+            stray = set(actions) - self.external
+            if stray:
+                raise NubotMatchError(f"actions for robots that are not external: {sorted(stray)}")
+        period = seconds if seconds is not None else min(self.control_period.values())
+        end = sim.time + period
+        out = MatchStep(sim.time)
+        while sim.time + _EPS < end:
+            self._physics_step(actions or {}, out)
+            if self.done:
+                break
+        out.time, out.done = sim.time, self.done
+        return out
+
+    def run(self, until: float | None = None, progress: Callable[[LockstepMatch], None] | None = None,
+            progress_period: float = 10.0) -> GameStateData:
+        """Play to full time (or to sim time ``until`` [s]); call ``progress`` every ``progress_period`` [s]."""
+        sim = self._require_sim()
+        ticker = Periodic(progress_period, sim.time)
+        out = MatchStep(sim.time)
+        while not self.done and (until is None or sim.time + _EPS < until):
+            self._physics_step({}, out)
+            out.events.clear()
+            out.decisions.clear()
+            if progress is not None and ticker.due(sim.time):
+                progress(self)
+        return self.game.state()
+
+    def close(self) -> None:
+        for listener in self.listeners:
+            listener.close()
+
+    def _physics_step(self, actions: Mapping[str, RobotCommand], out: MatchStep) -> None:
+        sim = self._require_sim()
+        t = sim.time
+        if self._judge.due(t):
+            self._referee_tick(t, out)
+        if self._vision.due(t):
+            for name, agent in self.agents.items():
+                view = sim.observe(name)
+                agent.on_vision(view)
+                for listener in self.listeners:
+                    listener.vision(name, view)
+        due = [p for p, schedule in self._control.items() if schedule.due(t)]
+        if due:
+            self._control_cycle(t, set(due), actions, out)
+        events = sim.step()
+        self._note_events(events, out)
+        if self._states.due(sim.time):
+            states = sim.model_states()
+            for listener in self.listeners:
+                listener.clock(sim.time)
+                listener.model_states(sim.time, states)
+
+    def _control_cycle(self, t: float, due: set[float], actions: Mapping[str, RobotCommand],
+                       out: MatchStep) -> None:
+        names = [n for n in self.agents if self.control_period[n] in due]
+        for name in names:  # the team link: what every teammate shared up to the previous cycle (own: ignored)
+            team, agent = self.team_of[name], self.agents[name]
+            for packet in self.packets[team].collect(t):
+                agent.on_teammate(t, packet)
+            for report in self.strategies[team].collect(t):
+                agent.on_teammate_strategy(t, report)
+        for name in names:
+            step = self.agents[name].step(t)
+            self.steps[name] = step
+            team = self.team_of[name]
+            if step.packet is not None:
+                self.packets[team].put(name, t, step.packet)
+            self.strategies[team].put(name, t, step.report)
+            command = actions.get(name) if name in self.external else step.command
+            if command is not None:
+                self._apply(name, command, out)
+            for listener in self.listeners:
+                listener.robot_step(t, name, step)
+
+    def _apply(self, name: str, command: RobotCommand, out: MatchStep) -> None:
+        sim = self._require_sim()
+        v = command.velocity
+        sim.command_velocity(name, v.vx, v.vy, v.w)
+        if command.ball_handle is not None:
+            sim.ball_handle(name, command.ball_handle)
+        if command.kick is not None:
+            _done, event = sim.shoot(name, float(command.kick.strength), int(command.kick.kind))
+            if event is not None:
+                self._note_events([event], out)
+
+    def _note_events(self, events: list[SimEvent], out: MatchStep) -> None:
+        for event in events:
+            out.events.append(event)
+            if isinstance(event, GoalScored):
+                self._seen_goals.append(GoalSeen(event.side, event.last_touch))
+            elif isinstance(event, BallKicked):
+                self._seen_kicks.append(event.robot)
+            elif isinstance(event, BallTouched):
+                self._seen_touches.append(event.robot)
+            for listener in self.listeners:
+                listener.sim_event(event)
+
+    # --- the referee ---------------------------------------------------------------------------------
+    def _referee_tick(self, t: float, out: MatchStep) -> None:
+        sim = self._require_sim()
+        ball = sim.world.ball_state()
+        robots = {n: (s.x, s.y) for n, s in ((n, sim.world.robot_state(n)) for n in self.agents)}
+        snapshot = WorldSnapshot(t, (ball.x, ball.y, ball.z), robots, sim.last_touch, tuple(self._seen_goals),
+                                 tuple(self._seen_kicks), tuple(self._seen_touches))
+        self._seen_goals, self._seen_kicks, self._seen_touches = [], [], []
+        decision = self.referee.update(snapshot)
+        if decision is not None:
+            out.decisions.append(decision)
+            if decision.switch_ends:
+                sim.switch_ends()
+            if decision.ball is not None:
+                r = self.config.world.ball.radius
+                sim.set_model_state(self.config.world.ball_name, BallState(*decision.ball, r, 0.0, 0.0, 0.0))
+        self._coach_all()
+        state = self.game.state()
+        changed = self._published is None or state.without_clock() != self._published.without_clock()
+        if self._state_out.due(t) or changed:
+            self._published = state
+            for listener in self.listeners:
+                listener.game_state(t, state)
+
+    def _coach_all(self) -> None:
+        """Each team's command to its robots' world models when it changed (CoachInfo, MatchType = previous)."""
+        t = self._require_sim().time
+        for status in self.game.teams:
+            team = status.spec.prefix
+            now = (status.mode, status.previous)
+            if self._sent.get(team) == now:
+                continue
+            self._sent[team] = now
+            for name in self.members[team]:
+                self.agents[name].on_coach(t, int(status.mode), int(status.previous))
+            for listener in self.listeners:
+                listener.coach(t, team, status.mode, status.previous)
