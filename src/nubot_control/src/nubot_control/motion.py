@@ -5,11 +5,14 @@ Provides: ``MotionController.command`` / ``follow`` -> body-frame (Vx, Vy, w) fo
 ``nubot_common/VelCmd``, and ``MotionController.reference`` (where the robot should be now).
 Two trackers, chosen by ``MotionParams.tracker``:
 
-- ``mpc``: every cycle the path is replanned (``path_planning``: subtargets around the
-  obstacles, the goal posts and inside the field limits, a cubic B-spline through them,
-  time-parameterised under the speed, acceleration and curvature limits) from where the robot
-  should be now, and tracked by the Laguerre-parameterised MPC (``mpc.LaguerreMpc``), whose
-  command keeps the velocity and acceleration limits;
+- ``mpc``: the path is planned (``path_planning``: subtargets around the obstacles, the goal
+  posts and inside the field limits, a cubic B-spline through them, time-parameterised under the
+  speed, acceleration and curvature limits) and tracked by the Laguerre-parameterised MPC
+  (``mpc.LaguerreMpc``), whose command keeps the velocity and acceleration limits. The plan is
+  kept while it holds (``MotionParams.keep_plan_*``: one the robot can follow, the robot near its
+  reference, the waypoints where they were, the same limits, no obstacle inside the clearance of
+  the path ahead, not too old); else it is replanned from where the robot should be now (from the
+  robot when far off);
 - ``baseline``: heads for the first sub-target around the obstacles at a speed limited by the
   distance to go and by an acceleration limit (the tracker team play started with).
 
@@ -33,6 +36,9 @@ from nubot_control.params import MotionParams
 from nubot_control.path_planning import Bounds, Disc, PlannerParams, Trajectory, plan
 
 _MAX_DETOURS = 3
+# A plan whose remaining path enters an obstacle's clearance by more than this is replaced [m]; the planner
+# itself leaves violations of a few millimetres (path_planning._TOLERANCE), which must not force a replan.
+_INTRUSION_TOLERANCE = 0.01
 
 
 def _segment_distance(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
@@ -94,10 +100,17 @@ class MotionController:
         self.compute_time = 0.0  # wall time of the last cycle's planning and tracking [s]
         self._given: list[tuple[float, float]] = []  # the route asked for last cycle
         self._waypoints: list[tuple[float, float]] = []  # what remains of it
+        self._plan_goals: list[tuple[float, float]] = []  # the route asked for when the plan was made
+        self._plan_limits = (0.0, 0.0)  # the speed [m/s] and acceleration [m/s^2] limits it was made under
+        self._plan_age = 0.0  # time since the plan was made (its time 0) [s]
+        self._plan_keepable = False  # the robot can follow the plan (see _within_accel)
+        self._horizon_times = (np.arange(self.mpc.params.horizon + 1) * self.mpc.params.dt
+                               if self.mpc is not None else np.zeros(0))  # the MPC's steps [s]
 
     def reset(self) -> None:
         self.velocity, self.w = (0.0, 0.0), 0.0
         self.trajectory, self.reference, self._given, self._waypoints = None, None, [], []
+        self._plan_goals, self._plan_limits, self._plan_age, self._plan_keepable = [], (0.0, 0.0), 0.0, False
 
     def command(self, me: Pose2D, target: Pose2D, obstacles: Sequence[tuple[float, ...]], dt: float,
                 speed_limit: float | None = None, holding: bool = False) -> tuple[float, float, float]:
@@ -134,23 +147,80 @@ class MotionController:
         bx, by = rotate(vx, vy, -me.theta)
         return bx, by, self.w
 
-    # --- mpc: replan, then track ------------------------------------------------------------
-    def _discs(self, me: Pose2D, obstacles: Sequence[tuple[float, ...]]) -> list[Disc]:
+    # --- mpc: replan when the plan no longer holds, then track ---------------------------------
+    def _obstacle_table(self, me: Pose2D, obstacles: Sequence[tuple[float, ...]]) -> list[tuple[float, float, float]]:
+        """The posts and obstacles within planning_range as (x, y, radius) [m], the posts first."""
         p = self.params
-        discs = list(self.posts)
+        table = [(d.x, d.y, d.radius) for d in self.posts]
         for o in obstacles:
             if len(o) > 2:  # keep the centre o[2] away: a disc that gives that clearance
-                discs.append(Disc(o[0], o[1], max(0.0, o[2] - self.robot_radius - p.clearance)))
+                table.append((o[0], o[1], max(0.0, o[2] - self.robot_radius - p.clearance)))
             else:
-                discs.append(Disc(o[0], o[1], self.robot_radius))
-        return [d for d in discs if math.hypot(d.x - me.x, d.y - me.y) < p.planning_range]
+                table.append((o[0], o[1], self.robot_radius))
+            if not all(math.isfinite(v) for v in table[-1]):
+                Disc(*table[-1])  # raises the planner's ValueError, which names the bad value
+        return [d for d in table if math.hypot(d[0] - me.x, d[1] - me.y) < p.planning_range]
+
+    def _plan_holds(self, me: Pose2D, goals: list[tuple[float, float]], table: list[tuple[float, float, float]],
+                    limits: tuple[float, float]) -> bool:
+        """Whether the plan being tracked may be kept this cycle (see ``MotionParams.keep_plan_*``)."""
+        p, trajectory = self.params, self.trajectory
+        if (trajectory is None or not self._plan_keepable or self._plan_age >= p.keep_plan_time
+                or limits != self._plan_limits):
+            return False
+        if len(goals) != len(self._plan_goals):
+            return False
+        for (gx, gy), (hx, hy) in zip(goals, self._plan_goals):
+            shift = p.keep_plan_goal_shift + p.keep_plan_goal_share * math.hypot(gx - me.x, gy - me.y)
+            if math.hypot(gx - hx, gy - hy) > shift:
+                return False
+        ref, _ = trajectory.state_at(self._plan_age)
+        if math.hypot(float(ref[0]) - me.x, float(ref[1]) - me.y) > p.keep_plan_deviation:
+            return False
+        if not table:
+            return True
+        discs = np.array(table)
+        clear = self.robot_radius + p.clearance + discs[:, 2]
+        # As the planner does, obstacles holding the robot or a waypoint are not avoided.
+        ends = np.array([(me.x, me.y)] + goals)
+        rel = ends[:, None, :] - discs[None, :, :2]
+        counted = ~(np.einsum("mkj,mkj->mk", rel, rel) < clear * clear).any(axis=0)
+        if not counted.any():
+            return True
+        first = max(int(np.searchsorted(trajectory.t, self._plan_age, side="right")) - 1, 0)
+        rel = trajectory.xy[first:, None, :] - discs[None, counted, :2]
+        keep = np.maximum(clear[counted] - _INTRUSION_TOLERANCE, 0.0)
+        return bool((np.einsum("mkj,mkj->mk", rel, rel) >= keep * keep).all())
 
     def _track(self, me: Pose2D, goals: list[tuple[float, float]], obstacles: Sequence[tuple[float, ...]],
                dt: float, limit: float, accel: float) -> tuple[float, float]:
+        self._plan_age += dt
+        table = self._obstacle_table(me, obstacles)
+        if self._plan_holds(me, goals, table, (limit, accel)):
+            assert self.trajectory is not None  # a plan that holds exists
+            ref, ref_v = self.trajectory.state_at(self._plan_age)
+            start, start_velocity = (float(ref[0]), float(ref[1])), (float(ref_v[0]), float(ref_v[1]))
+            self._given, self._waypoints = goals, self._ahead(start, start_velocity, self._waypoints[:-1]) + [goals[-1]]
+        else:
+            self._replan(me, goals, table, limit, accel)
+        mpc = self.mpc
+        assert mpc is not None and self.trajectory is not None  # _track runs only with the mpc tracker
+        horizon = mpc.params.horizon
+        ref_positions, ref_velocities = self.trajectory.states_at(self._plan_age + self._horizon_times)
+        self.reference = ((float(ref_positions[0, 0]), float(ref_positions[0, 1])),
+                          (float(ref_velocities[0, 0]), float(ref_velocities[0, 1])))
+        u = mpc.command(np.array([me.x, me.y]), np.array(self.velocity), ref_positions,
+                        ref_velocities[:horizon], max_speed=min(limit, mpc.params.max_speed),
+                        max_accel=min(accel, mpc.params.max_accel))
+        return float(u[0]), float(u[1])
+
+    def _replan(self, me: Pose2D, goals: list[tuple[float, float]], table: list[tuple[float, float, float]],
+                limit: float, accel: float) -> None:
+        """A new plan, made now: from where the last plan has the robot when it is on track, else from the robot."""
         p = self.params
         given, start, start_velocity = goals, (me.x, me.y), self.velocity
         if self.trajectory is not None and self._given and math.dist(self._given[-1], goals[-1]) < p.replan_tolerance:
-            ref, ref_v = self.trajectory.state_at(dt)  # where the last plan has the robot now
+            ref, ref_v = self.trajectory.state_at(self._plan_age)  # where the last plan has the robot now
             if math.dist(ref, (me.x, me.y)) < p.replan_tolerance:  # on track: replan from there, smoothly
                 start, start_velocity = (float(ref[0]), float(ref[1])), (float(ref_v[0]), float(ref_v[1]))
                 if len(goals) == len(self._given):  # the same route: keep only the waypoints still ahead
@@ -159,19 +229,21 @@ class MotionController:
         planner = PlannerParams(robot_radius=self.robot_radius, safety_margin=p.clearance,
                                 max_speed=limit * p.plan_share, max_accel=accel * p.plan_share,
                                 max_lateral_accel=p.max_lateral_accel * p.plan_share)
-        self.trajectory = plan(start, goals, self._discs(me, obstacles), planner, self.bounds,
+        self.trajectory = plan(start, goals, [Disc(x, y, r) for x, y, r in table], planner, self.bounds,
                                start_velocity=start_velocity)
-        mpc = self.mpc
-        assert mpc is not None  # _track runs only with the mpc tracker
-        horizon = mpc.params.horizon
-        times = np.arange(horizon + 1) * mpc.params.dt
-        ref_positions, ref_velocities = self.trajectory.states_at(times)
-        self.reference = ((float(ref_positions[0, 0]), float(ref_positions[0, 1])),
-                          (float(ref_velocities[0, 0]), float(ref_velocities[0, 1])))
-        u = mpc.command(np.array([me.x, me.y]), np.array(self.velocity), ref_positions,
-                        ref_velocities[:horizon], max_speed=min(limit, mpc.params.max_speed),
-                        max_accel=min(accel, mpc.params.max_accel))
-        return float(u[0]), float(u[1])
+        self._plan_goals, self._plan_limits, self._plan_age = given, (limit, accel), 0.0
+        self._plan_keepable = self._within_accel(self.trajectory, accel)
+
+    def _within_accel(self, trajectory: Trajectory, accel: float) -> bool:
+        """Whether the robot can follow the plan for as long as it may be kept: its acceleration [m/s^2] stays
+        within ``accel``. A plan from a fast start can turn harder than that at first (its speed profile cannot
+        brake the start); replanned every cycle, it is bent into one the robot can follow."""
+        soon = int(np.searchsorted(trajectory.t, self.params.keep_plan_time, side="right")) + 1
+        t, v = trajectory.t[:soon], trajectory.v[:soon]
+        if len(t) < 2:
+            return True
+        dv = np.diff(v, axis=0)
+        return bool((np.einsum("ij,ij->i", dv, dv) <= (accel * np.diff(t)) ** 2).all())
 
     @staticmethod
     def _ahead(start: tuple[float, float], velocity: tuple[float, float],

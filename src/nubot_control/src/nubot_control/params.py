@@ -25,6 +25,15 @@ class MotionParams:
     dribble_speed: float = 1.5  # while holding the ball [m/s]
     dribble_accel: float = 1.5  # while holding the ball [m/s^2]
     replan_tolerance: float = 0.3  # replan from the reference while this close to it, else from the robot [m]
+    # A plan is kept (not replanned) while it still holds: its acceleration within the robot's limit, the robot
+    # within keep_plan_deviation of its reference, every waypoint within keep_plan_goal_shift +
+    # keep_plan_goal_share * (robot to waypoint) of where it was when planned, the same speed and acceleration
+    # limits, no obstacle inside the clearance of what remains of the path, the plan younger than
+    # keep_plan_time. keep_plan_time 0 replans every cycle.
+    keep_plan_deviation: float = 0.1  # [m]
+    keep_plan_goal_shift: float = 0.05  # [m]
+    keep_plan_goal_share: float = 0.1  # [m per m of distance still to go]
+    keep_plan_time: float = 0.5  # [s]
     plan_share: float = 0.92  # the plan uses this share of the speed and acceleration limits (room to correct)
     planning_range: float = 8.0  # obstacles farther than this are left out of the plan [m]
     position_gain: float = 2.5  # [1/s], velocity per metre of error near the target
@@ -35,7 +44,8 @@ class MotionParams:
         require_positive(self, "max_speed", "max_accel", "max_lateral_accel", "max_rot_speed", "max_rot_accel",
                          "dribble_speed", "dribble_accel", "replan_tolerance", "planning_range", "position_gain",
                          "heading_gain")
-        require_non_negative(self, "clearance")
+        require_non_negative(self, "clearance", "keep_plan_deviation", "keep_plan_goal_shift", "keep_plan_goal_share",
+                             "keep_plan_time")
         if not 0.0 < self.plan_share <= 1.0:
             raise ValueError(f"plan_share must lie in (0, 1], got {self.plan_share}")
         if self.tracker not in TRACKERS:

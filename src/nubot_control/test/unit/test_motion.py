@@ -109,3 +109,91 @@ def test_sub_target_is_the_goal_when_the_way_is_free():
     assert sub_target((0.0, 0.0), (5.0, 0.0), [(2.0, 3.0)], 0.8) == (5.0, 0.0)
     aside = sub_target((0.0, 0.0), (5.0, 0.0), [(2.5, 0.1)], 0.8)
     assert aside != (5.0, 0.0) and abs(aside[1] - 0.1) >= 0.8
+
+
+def _step(ctl, pose, target, obstacles=(), holding=False):
+    """One cycle on a kinematic robot; the new pose."""
+    bx, by, w = ctl.command(pose, target, list(obstacles), DT, holding=holding)
+    vx, vy = rotate(bx, by, pose.theta)
+    return Pose2D(pose.x + vx * DT, pose.y + vy * DT, pose.theta + w * DT)
+
+
+def _settled(cycles=20, **params):
+    """A controller 20 cycles into a drive from rest at the origin towards (6, 0) on a free field."""
+    ctl = MotionController(MotionParams(**params), WorldDescription(), DT)
+    pose = Pose2D(0.0, 0.0, 0.0)
+    for _ in range(cycles):
+        pose = _step(ctl, pose, Pose2D(6.0, 0.0, 0.0))
+    return ctl, pose
+
+
+def test_a_plan_that_holds_is_kept_and_renewed_after_keep_plan_time():
+    ctl, pose = _settled()
+    plans = []
+    for _ in range(40):
+        pose = _step(ctl, pose, Pose2D(6.0, 0.0, 0.0))
+        plans.append(id(ctl.trajectory))
+    renewals = sum(a != b for a, b in zip(plans, plans[1:]))
+    assert 1 <= renewals <= 40 * DT / P.keep_plan_time + 1, "kept, and replanned only as it grows old"
+
+
+def test_keep_plan_time_zero_replans_every_cycle():
+    ctl, pose = _settled(keep_plan_time=0.0)
+    plans = []
+    for _ in range(10):
+        pose = _step(ctl, pose, Pose2D(6.0, 0.0, 0.0))
+        plans.append(ctl.trajectory)
+    assert len({id(t) for t in plans}) == 10
+
+
+def test_a_plan_is_replaced_when_the_target_moves_beyond_the_tolerance():
+    ctl, pose = _settled()
+    kept = ctl.trajectory
+    pose = _step(ctl, pose, Pose2D(6.0, 0.02, 0.0))  # within keep_plan_goal_shift
+    assert ctl.trajectory is kept
+    pose = _step(ctl, pose, Pose2D(6.0, 1.5, 0.0))
+    assert ctl.trajectory is not kept
+    assert ctl.trajectory.xy[-1] == pytest.approx((6.0, 1.5))
+
+
+def test_a_plan_is_replaced_when_an_obstacle_steps_onto_its_path():
+    ctl, pose = _settled()
+    kept = ctl.trajectory
+    pose = _step(ctl, pose, Pose2D(6.0, 0.0, 0.0), obstacles=[(5.0, 3.0)])  # far off the path
+    assert ctl.trajectory is kept
+    _step(ctl, pose, Pose2D(6.0, 0.0, 0.0), obstacles=[(3.5, 0.1)])
+    assert ctl.trajectory is not kept
+    gap = np.linalg.norm(ctl.trajectory.xy - (3.5, 0.1), axis=1).min()
+    assert gap > 2 * ROBOT_RADIUS + P.clearance - 0.01, "the new plan goes round it"
+
+
+def test_a_plan_is_replaced_when_the_robot_is_pushed_off_it_or_its_limits_change():
+    ctl, pose = _settled()
+    kept = ctl.trajectory
+    pose = _step(ctl, Pose2D(pose.x, pose.y + 2 * P.keep_plan_deviation, pose.theta), Pose2D(6.0, 0.0, 0.0))
+    assert ctl.trajectory is not kept
+    kept = ctl.trajectory
+    _step(ctl, pose, Pose2D(6.0, 0.0, 0.0), holding=True)  # the dribbling limits
+    assert ctl.trajectory is not kept
+
+
+def test_keeping_plans_drives_like_replanning_every_cycle():
+    """The same drive round an obstacle, plans kept or made every cycle: the same route within centimetres, the
+    same clearance, the goal reached as soon (a kept plan's speed profile differs a little on the way)."""
+    obstacles = [(3.0, 0.2)]
+    kept, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(6.0, 1.0, 0.0), obstacles, seconds=5.0)
+    every, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(6.0, 1.0, 0.0), obstacles, seconds=5.0, keep_plan_time=0.0)
+    a, b = (np.array([(p.x, p.y) for p in path]) for path in (kept, every))
+    assert max(np.linalg.norm(b - point, axis=1).min() for point in a) < 0.1
+    gaps = [np.linalg.norm(xy - obstacles[0], axis=1).min() for xy in (a, b)]
+    assert gaps[0] == pytest.approx(gaps[1], abs=0.02)
+    arrivals = [int(np.argmax(np.linalg.norm(xy - (6.0, 1.0), axis=1) < 0.05)) for xy in (a, b)]
+    assert abs(arrivals[0] - arrivals[1]) <= 3
+    assert np.linalg.norm(a[-1] - b[-1]) < 0.02
+
+
+@pytest.mark.parametrize("name", ["keep_plan_deviation", "keep_plan_goal_shift", "keep_plan_goal_share",
+                                  "keep_plan_time"])
+def test_a_negative_keep_plan_parameter_is_refused(name):
+    with pytest.raises(ValueError, match=name):
+        MotionParams(**{name: -0.1})
