@@ -6,8 +6,12 @@ TRACKER ?= mpc
 FIELD ?= 18x12
 DEMO_SECONDS ?= 60
 SOAK_HALF_SECONDS ?= 900
+HOME_TEAM_DEFAULT := src/nubot_control/config/teams/nubot.yaml
+AWAY_TEAM_DEFAULT := src/nubot_control/config/teams/rival.yaml
+MATCHES ?= 40
+SEED ?= 0
 
-.PHONY: setup match demo test unit integration bench soak lint clean
+.PHONY: setup match demo evaluate test unit integration bench soak lint clean
 
 setup:
 	@bash scripts/setup.sh
@@ -17,6 +21,16 @@ match: setup
 
 demo: setup
 	@$(ROS) python scripts/run_demo.py --sim-seconds $(DEMO_SECONDS)
+
+# Many lockstep matches, HOME against AWAY, on every core (JOBS=N) or a dask cluster (SCHEDULER=tcp://host:8786):
+# evaluations/<time>/{results.json,table.md,goal_difference.png}. HOME is also the shell's home folder: only a
+# HOME given on the command line names a team.
+evaluate: setup
+	@export HOME=$$(getent passwd $$(id -u) | cut -d: -f6) && $(ROS) python scripts/evaluate.py \
+	  --home $(if $(filter command line,$(origin HOME)),$(HOME),$(HOME_TEAM_DEFAULT)) \
+	  --away $(or $(AWAY),$(AWAY_TEAM_DEFAULT)) --matches $(MATCHES) --half-seconds $(HALF_SECONDS) \
+	  --field $(FIELD) --seed $(SEED) --tracker $(TRACKER) \
+	  $(if $(JOBS),--jobs $(JOBS),) $(if $(SCHEDULER),--scheduler $(SCHEDULER),)
 
 test: lint
 	@$(ROS) python -m pytest

@@ -1,7 +1,8 @@
 """A lockstep match's configuration, read from the same YAML files the launch files load.
 
 Requires: two team YAMLs (``nubot_control/config/teams/*.yaml``: prefix, attack, goalie, start poses,
-optional ``control_config`` and ``strategy``; relative paths are taken from the YAML's folder), a field
+optional ``control_config`` and ``strategy``; relative paths are taken from the YAML's folder; a team can
+meet a variant of itself: ``opponents`` gives the second another prefix and end), a field
 (``18x12``, ``22x14`` or a world description YAML), the tracker (``mpc``, ``baseline`` or "" for the
 configured one), the half length [s of game time] and number of halves.
 Provides: ``MatchConfig`` (frozen: the world, both teams with the ``ControlParams`` their nubot_control
@@ -151,6 +152,17 @@ def load_team(path: str | Path, world: WorldDescription, tracker: str = "") -> T
     return TeamSetup(team, params, str(path))
 
 
+def opponents(home: TeamSetup, away: TeamSetup) -> tuple[TeamSetup, TeamSetup]:
+    """The two teams made able to meet: AWAY takes another prefix if both use one (a team against a variant
+    of itself) and the other end if both attack the same goal (start poses are in the team's own frame)."""
+    a, b = home.config, away.config
+    if b.prefix == a.prefix:
+        b = replace(b, prefix="rival" if a.prefix != "rival" else "nubot")
+    if b.attack == a.attack:
+        b = replace(b, attack=-a.attack)
+    return home, replace(away, config=b)
+
+
 def _only(cls: type, data: Mapping[str, Any]) -> dict[str, Any]:
     names = {f.name for f in dataclasses.fields(cls)}
     return {k: v for k, v in data.items() if k in names}
@@ -168,7 +180,7 @@ def match_config(home: str | Path = TEAMS / "nubot.yaml", away: str | Path = TEA
         world = load_world(field)
     except (OSError, NubotCommonError, ValueError) as exc:
         raise NubotMatchError(f"field {field}: {exc}") from None
-    teams = (load_team(home, world, tracker), load_team(away, world, tracker))
+    teams = opponents(load_team(home, world, tracker), load_team(away, world, tracker))
     sim_yaml = _read(CONFIG["sim"])
     wm_yaml = _read(CONFIG["world_model"])
     ref_yaml = _read(CONFIG["referee"])

@@ -1,0 +1,283 @@
+"""Compare two teams over many seeded lockstep matches, on every core or on a dask cluster.
+
+    python scripts/evaluate.py --home A.yaml --away B.yaml --matches 40 --half-seconds 300 [--jobs N]
+                               [--scheduler tcp://host:8786] [--field 18x12] [--tracker mpc] [--seed 0]
+
+Requires: two team YAMLs (a team may name a strategy class of its own, ``nubot_control.plugins``).
+Match i is played with seed ``--seed + i // 2``; odd matches swap the sides (AWAY kicks off and each
+team starts at the other end), so every seed is played both ways round. Matches run in ``--jobs``
+worker processes (default: every core) or, with ``--scheduler``, on an existing ``dask.distributed``
+cluster (its workers need this workspace on their PYTHONPATH: ``source devel/setup.bash``).
+Provides, in ``--out`` (default ``evaluations/<time>/``): ``results.json`` (the options, every finished
+match, failures, the summary with 95 % confidence intervals, the verdict, the throughput; rewritten
+after each match, so an interrupted evaluation keeps what finished), ``table.md`` and
+``goal_difference.png``; a progress bar with an ETA on stderr, the table and the verdict on stdout.
+Ctrl-C stops the workers and keeps the finished matches. Exit status: 0, 1 if a match failed or the
+evaluation was interrupted, 2 for bad options (a clear message, no traceback).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import signal
+import sys
+import time
+from collections.abc import Iterator, Sequence
+from dataclasses import asdict, dataclass
+from datetime import datetime
+from pathlib import Path
+
+from nubot_common.naming import team_of
+from nubot_match import NubotMatchError
+from nubot_match.config import TEAMS, MatchConfig, match_config
+from nubot_match.engine import LockstepMatch
+from nubot_match.record import MatchLogRecorder
+from nubot_match.statistics import MatchResult, plot_goal_difference, summarise, table_text, verdict
+from nubot_tools.match_analysis import MatchSummary, analyse
+
+WORKSPACE = Path(__file__).resolve().parents[4]
+MAX_MATCHES = 100_000
+
+
+@dataclass(frozen=True)
+class MatchJob:
+    """One match to play: everything a worker needs (plain values, so it travels to any process)."""
+
+    index: int
+    seed: int
+    swapped: bool  # AWAY kicks off and each team starts at the other end
+    home: str
+    away: str
+    field: str
+    tracker: str
+    half_seconds: float
+    halves: int
+
+
+def jobs_for(home: str, away: str, matches: int, half_seconds: float, halves: int = 2, field: str = "18x12",
+             tracker: str = "", seed: int = 0) -> list[MatchJob]:
+    if matches < 1 or matches > MAX_MATCHES:
+        raise NubotMatchError(f"the number of matches must lie in 1..{MAX_MATCHES}, got {matches}")
+    if seed < 0:
+        raise NubotMatchError(f"seed must not be negative, got {seed}")
+    return [MatchJob(i, seed + i // 2, i % 2 == 1, home, away, field, tracker, half_seconds, halves)
+            for i in range(matches)]
+
+
+def job_config(job: MatchJob) -> MatchConfig:
+    config = match_config(job.home, job.away, job.field, job.tracker, job.half_seconds, job.halves)
+    return config.swapped() if job.swapped else config
+
+
+def team_figures(summary: MatchSummary, team: str) -> dict[str, float]:
+    """HOME's or AWAY's figures of one match; collisions are those a robot of ``team`` took part in."""
+    collisions = sum(1 for c in summary.collisions if any(team_of(r) == team for r in c.robots))
+    return {"goals": float(summary.score.get(team, 0)),
+            "passes_completed": float(summary.pass_counts().get(team, {}).get("completed", 0)),
+            "possession": float(summary.possession_share().get(team, 0.0)),
+            "shots": float(summary.shot_counts().get(team, 0)),
+            "collisions": float(collisions)}
+
+
+def play_match(job: MatchJob) -> MatchResult:
+    """Play one match to full time and measure it (runs in a worker process)."""
+    config = job_config(job)
+    home_team, away_team = (config.teams[1], config.teams[0]) if job.swapped else config.teams
+    recorder = MatchLogRecorder()
+    match = LockstepMatch(config, [recorder])
+    match.reset(job.seed)
+    start = time.perf_counter()
+    match.run()
+    wall = time.perf_counter() - start
+    summary = analyse(recorder.finish(), config.world, (config.teams[0].config.prefix, config.teams[0].config.attack))
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    return MatchResult(job.index, job.seed, home_team.config.attack, team_figures(summary, home_team.config.prefix),
+                       team_figures(summary, away_team.config.prefix), round(match.time, 3), round(wall, 3),
+                       round(rss, 1), len(summary.referee_events))
+
+
+def _quiet_worker() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle: it stops the workers
+
+
+def _play_or_fail(job: MatchJob) -> tuple[MatchJob, MatchResult | None, str]:
+    try:
+        return job, play_match(job), ""
+    except Exception as exc:  # noqa: BLE001 - one failed match is reported and the others go on
+        return job, None, f"{type(exc).__name__}: {exc}"
+
+
+class LocalRunner:
+    """Matches in worker processes on this machine."""
+
+    def __init__(self, jobs: int):
+        import multiprocessing
+
+        # fork: a spawned worker would import the two-line script as its main module and run it again
+        self.pool = multiprocessing.get_context("fork").Pool(jobs, initializer=_quiet_worker, maxtasksperchild=1)
+        self.where = f"{jobs} worker process{'es' if jobs > 1 else ''} on this machine"
+
+    def results(self, jobs: Sequence[MatchJob]) -> Iterator[tuple[MatchJob, MatchResult | None, str]]:
+        yield from self.pool.imap_unordered(_play_or_fail, jobs)
+
+    def stop(self) -> None:
+        self.pool.terminate()
+        self.pool.join()
+
+    def close(self) -> None:
+        self.pool.close()
+        self.pool.join()
+
+
+class DaskRunner:
+    """Matches on an existing dask.distributed cluster."""
+
+    def __init__(self, scheduler: str):
+        from distributed import Client
+
+        try:
+            self.client = Client(scheduler, timeout=30)
+        except (OSError, TimeoutError) as exc:
+            raise NubotMatchError(f"cannot reach the dask scheduler {scheduler}: {exc}") from None
+        workers = len(self.client.scheduler_info().get("workers", {}))
+        self.where = f"the dask cluster at {scheduler} ({workers} workers)"
+        self.futures: list = []
+
+    def results(self, jobs: Sequence[MatchJob]) -> Iterator[tuple[MatchJob, MatchResult | None, str]]:
+        from distributed import as_completed
+
+        self.futures = self.client.map(_play_or_fail, list(jobs), pure=False)
+        for future in as_completed(self.futures):
+            yield future.result()
+
+    def stop(self) -> None:
+        self.client.cancel(self.futures)
+        self.client.close()
+
+    def close(self) -> None:
+        self.client.close()
+
+
+def _atomic_write(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+class Evaluation:
+    """The results so far, written after every match."""
+
+    def __init__(self, out: Path, options: dict, home: str, away: str):
+        self.out, self.options, self.home, self.away = out, options, home, away
+        self.results: list[MatchResult] = []
+        self.failures: list[dict] = []
+        self.start = time.monotonic()
+        self.interrupted = False
+
+    def add(self, job: MatchJob, result: MatchResult | None, error: str) -> None:
+        if result is None:
+            self.failures.append({"job": asdict(job), "error": error})
+        else:
+            self.results.append(result)
+        self.save()
+
+    def save(self) -> None:
+        results = sorted(self.results, key=lambda r: r.index)
+        summary = summarise(results, self.home, self.away)
+        wall = time.monotonic() - self.start
+        sim = sum(r.sim_seconds for r in results)
+        data = {"options": self.options, "home": self.home, "away": self.away, "interrupted": self.interrupted,
+                "finished": len(results), "failures": self.failures, "verdict": verdict(summary),
+                "summary": summary.to_json(),
+                "throughput": {"wall_seconds": round(wall, 1), "sim_seconds": round(sim, 1),
+                               "sim_seconds_per_wall_second": round(sim / wall, 2) if wall > 0 else None,
+                               "rss_mib_max": max((r.rss_mib for r in results), default=None)},
+                "matches": [r.to_json() for r in results]}
+        _atomic_write(self.out / "results.json", json.dumps(data, indent=2) + "\n")
+
+    def finish(self) -> str:
+        results = sorted(self.results, key=lambda r: r.index)
+        summary = summarise(results, self.home, self.away)
+        self.save()
+        _atomic_write(self.out / "table.md", table_text(summary) + "\n" + verdict(summary) + "\n")
+        if results:
+            plot_goal_difference(results, summary, self.out / "goal_difference.png")
+        return table_text(summary) + "\n" + verdict(summary)
+
+
+def _name(path: str) -> str:
+    return Path(path).stem.upper() if Path(path).stem else path
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--home", default=str(TEAMS / "nubot.yaml"), help="HOME team YAML")
+    parser.add_argument("--away", default=str(TEAMS / "rival.yaml"), help="AWAY team YAML")
+    parser.add_argument("--matches", type=int, default=40)
+    parser.add_argument("--half-seconds", type=float, default=300.0, help="length of a half [s of game time]")
+    parser.add_argument("--halves", type=int, default=2)
+    parser.add_argument("--field", default="18x12", help="18x12, 22x14 or a world description YAML")
+    parser.add_argument("--tracker", default="", choices=("", "mpc", "baseline"),
+                        help="every robot's motion tracker (default: as configured)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the first match")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="worker processes on this machine")
+    parser.add_argument("--scheduler", default="", help="a dask.distributed scheduler, e.g. tcp://host:8786")
+    parser.add_argument("--out", type=Path, help="folder of the results (default evaluations/<time>)")
+    args = parser.parse_args(argv)
+    try:
+        if args.jobs < 1:
+            raise NubotMatchError(f"--jobs must be at least 1, got {args.jobs}")
+        jobs = jobs_for(args.home, args.away, args.matches, args.half_seconds, args.halves, args.field,
+                        args.tracker, args.seed)
+        config = job_config(jobs[0])  # refuse bad teams, strategies and options before any worker starts
+    except NubotMatchError as exc:
+        print(f"evaluate: {exc}", file=sys.stderr)
+        return 2
+    home, away = _name(args.home), _name(args.away)
+    if home == away:
+        home, away = f"{home} (home)", f"{away} (away)"
+    out = args.out or WORKSPACE / "evaluations" / datetime.now().strftime("%Y%m%d-%H%M%S")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        print(f"evaluate: cannot create {out}: {exc.strerror}", file=sys.stderr)
+        return 2
+    options = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()}
+    evaluation = Evaluation(out, options, home, away)
+    try:
+        runner: LocalRunner | DaskRunner = DaskRunner(args.scheduler) if args.scheduler else \
+            LocalRunner(min(args.jobs, len(jobs)))
+    except NubotMatchError as exc:
+        print(f"evaluate: {exc}", file=sys.stderr)
+        return 2
+    print(f"evaluate: {home} vs {away}, {len(jobs)} matches of {args.halves} x {args.half_seconds:g} s on the "
+          f"{config.world.name} field, seeds {args.seed}..{jobs[-1].seed}, sides swapped every other match, on "
+          f"{runner.where}; results in {out}", flush=True)
+    from tqdm import tqdm
+
+    tqdm.monitor_interval = 0  # no monitor thread in a process that forks workers
+    bar = tqdm(total=len(jobs), unit="match", file=sys.stderr, dynamic_ncols=True)
+    try:
+        for job, result, error in runner.results(jobs):
+            evaluation.add(job, result, error)
+            if result is None:
+                bar.write(f"  match {job.index + 1} (seed {job.seed}) failed: {error}")
+            else:
+                bar.write(f"  match {job.index + 1:>3} seed {job.seed}{' swapped' if job.swapped else ''}: "
+                          f"{home} {result.home['goals']:.0f} - {result.away['goals']:.0f} {away} "
+                          f"({result.sim_seconds:.0f} s simulated in {result.wall_seconds:.0f} s)")
+            bar.update(1)
+        runner.close()
+    except KeyboardInterrupt:
+        evaluation.interrupted = True
+        bar.write(f"evaluate: interrupted; stopping the workers and keeping the {len(evaluation.results)} "
+                  "finished matches")
+        runner.stop()
+    finally:
+        bar.close()
+    print(evaluation.finish(), flush=True)
+    print(f"evaluate: {len(evaluation.results)} of {len(jobs)} matches finished; results in {out}", flush=True)
+    return 1 if evaluation.failures or evaluation.interrupted else 0
