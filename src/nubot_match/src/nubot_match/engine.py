@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from coach4sim.game import GameController, GameStateData
 from coach4sim.params import TeamSpec
@@ -160,18 +160,22 @@ class LockstepMatch:
     # --- stepping -----------------------------------------------------------------------------------
     def step(self, actions: Mapping[str, RobotCommand] | None = None,
              seconds: float | None = None) -> MatchStep:
-        """Advance one control period (``seconds`` [s] if given); ``actions`` drive the external robots."""
+        """Advance to just before the next control cycle (``seconds`` [s] of sim time if given): one call holds
+        exactly one control cycle of the fastest robots; ``actions`` drive the external robots in it."""
         sim = self._require_sim()
         if actions:
             stray = set(actions) - self.external
             if stray:
                 raise NubotMatchError(f"actions for robots that are not external: {sorted(stray)}")
-        period = seconds if seconds is not None else min(self.control_period.values())
-        end = sim.time + period
+        if seconds is not None and not seconds > 0.0:
+            raise NubotMatchError(f"seconds must be positive, got {seconds}")
+        end = sim.time + seconds if seconds is not None else math.inf
         out = MatchStep(sim.time)
-        while sim.time + _EPS < end:
+        while True:
             self._physics_step(actions or {}, out)
-            if self.done:
+            if self.done or sim.time + _EPS >= end:
+                break
+            if seconds is None and min(s.next for s in self._control.values()) <= sim.time + _EPS:
                 break
         out.time, out.done = sim.time, self.done
         return out
@@ -191,8 +195,15 @@ class LockstepMatch:
         return self.game.state()
 
     def close(self) -> None:
+        """Close every listener (a bag is complete only then); also on leaving a ``with`` block."""
         for listener in self.listeners:
             listener.close()
+
+    def __enter__(self) -> LockstepMatch:
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        self.close()
 
     def _physics_step(self, actions: Mapping[str, RobotCommand], out: MatchStep) -> None:
         sim = self._require_sim()
@@ -232,9 +243,10 @@ class LockstepMatch:
             if step.packet is not None:
                 self.packets[team].put(name, t, step.packet)
             self.strategies[team].put(name, t, step.report)
-            command = actions.get(name) if name in self.external else step.command
-            if command is not None:
-                self._apply(name, command, out)
+            if name in self.external:  # what the robot did is the action, not its agent's wish
+                command = actions.get(name) or RobotCommand()
+                step = replace(step, command=command)
+            self._apply(name, step.command, out)
             for listener in self.listeners:
                 listener.robot_step(t, name, step)
 
