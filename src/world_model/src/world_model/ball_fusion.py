@@ -3,7 +3,7 @@
 Requires: ``BallPercept`` streams (own sensors, each teammate's reports), the
 observers' poses, ``WorldModelParams``. Provides: ``BallTrack`` (recent positions of
 one source, duplicates dropped), ``fit_velocity`` (least-squares line through the
-positions of the last ``velocity_window`` seconds, numpy.polyfit; the noisy per-frame
+positions of the last ``velocity_window`` seconds, in closed form; the noisy per-frame
 velocities are never used), ``BallCandidate`` and ``choose_ball`` (own sensors first,
 else the valid teammate nearest to the ball it reports, then the freshest) and
 ``ball_confidence`` (in [0, 1]: decays linearly to 0 at ``ball_timeout``, grows with
@@ -17,8 +17,6 @@ from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import numpy as np
-
 from nubot_common.geometry import Pose2D
 from nubot_common.percepts import BallPercept
 from nubot_common.world_state import BallSource
@@ -30,12 +28,23 @@ def fit_velocity(samples: Sequence[tuple[float, float, float]], min_samples: int
     """Slope (vx, vy) [m/s] of the least-squares lines x(t), y(t) through (t, x, y); None if underdetermined."""
     if len(samples) < min_samples:
         return None
-    data = np.asarray(samples, dtype=float)
-    t = data[:, 0] - data[-1, 0]  # relative times keep the fit well conditioned
-    if np.ptp(t) < 1e-6:
+    # The closed-form slope sum((t - mean t)(x - mean x)) / sum((t - mean t)^2), what numpy.polyfit's degree-1
+    # fit gives up to rounding, in plain floats: a dozen samples each cycle cost less than numpy's call overhead.
+    last = samples[-1][0]
+    times = [s[0] - last for s in samples]  # relative times keep the fit well conditioned
+    if max(times) - min(times) < 1e-6:
         return None
-    slopes = np.polyfit(t, data[:, 1:3], 1)[0]
-    return float(slopes[0]), float(slopes[1])
+    n = len(samples)
+    t_mean = sum(times) / n
+    x_mean = sum(s[1] for s in samples) / n
+    y_mean = sum(s[2] for s in samples) / n
+    stt = sxt = syt = 0.0
+    for dt, (_, x, y) in zip(times, samples):
+        dt -= t_mean
+        stt += dt * dt
+        sxt += dt * (x - x_mean)
+        syt += dt * (y - y_mean)
+    return sxt / stt, syt / stt
 
 
 class BallTrack:

@@ -19,26 +19,33 @@ from nubot_common.team_play import Point
 from nubot_common.world_state import LabelledObstacle, ObstacleLabel
 
 
-def _near(p: Point, points: Sequence[Point], radius: float) -> bool:
-    return any(math.hypot(p[0] - q[0], p[1] - q[1]) <= radius for q in points)
-
-
 def label_obstacles(me: Pose2D, agent_id: int, own: Sequence[Point], reported: Mapping[int, Sequence[Point]],
                     mates: Mapping[int, Point], teammate_radius: float, merge_radius: float
                     ) -> tuple[LabelledObstacle, ...]:
     """Merge and label obstacles; ``reported`` and ``mates`` are keyed by the teammates' AgentIDs."""
-    merged: list[tuple[Point, int]] = [(p, agent_id) for p in own]
+    # Plain loops that stop at the first match: run every cycle on a few dozen points, where numpy's
+    # per-call overhead and generator expressions cost more than the arithmetic.
+    hypot = math.hypot
+    mx, my = me.x, me.y
+    merged: list[tuple[float, float, int]] = [(p[0], p[1], agent_id) for p in own]
     for observer in sorted(reported):
         for p in reported[observer]:
-            if math.hypot(p[0] - me.x, p[1] - me.y) <= teammate_radius:
+            x, y = p[0], p[1]
+            if hypot(x - mx, y - my) <= teammate_radius:
                 continue  # the teammate sees this robot
-            if not _near(p, [q for q, _ in merged], merge_radius):
-                merged.append((p, observer))
+            for qx, qy, _ in merged:
+                if hypot(x - qx, y - qy) <= merge_radius:
+                    break
+            else:
+                merged.append((x, y, observer))
+    others = sorted((aid, q[0], q[1]) for aid, q in mates.items() if aid != agent_id)
     labelled = []
-    for (x, y), observer in merged:
-        distances = {aid: math.hypot(x - mx, y - my) for aid, (mx, my) in mates.items() if aid != agent_id}
-        near = [aid for aid, d in distances.items() if d <= teammate_radius]
-        mate = min(near, key=lambda aid: (distances[aid], aid)) if near else 0
+    for x, y, observer in merged:
+        mate, best = 0, math.inf
+        for aid, qx, qy in others:  # by AgentID: the lower one wins a tie
+            d = hypot(x - qx, y - qy)
+            if d <= teammate_radius and d < best:
+                mate, best = aid, d
         label = ObstacleLabel.TEAMMATE if mate else ObstacleLabel.OPPONENT
         labelled.append(LabelledObstacle(x, y, label, mate, observer, me.bearing_to(x, y), me.distance_to(x, y)))
     return tuple(labelled)

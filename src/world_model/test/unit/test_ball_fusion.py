@@ -94,3 +94,16 @@ def test_confidence_falls_with_age_and_rises_with_the_robots_seeing_the_ball():
     assert ball_confidence(0.3, 3, 0.3, 0.7) == 0.0
     assert ball_confidence(0.0, 0, 0.3, 0.7) == 0.0
     assert all(0.0 <= ball_confidence(a, n, 0.3, 0.7) <= 1.0 for a in (0.0, 0.1, 1.0) for n in range(6))
+
+
+def test_the_velocity_fit_is_numpys_least_squares_line():
+    import numpy as np
+
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        n = int(rng.integers(3, 20))
+        t = 100.0 + np.sort(rng.uniform(0.0, 0.5, n))
+        xy = rng.normal(0.0, 3.0, 2) + np.outer(t - t[0], rng.normal(0.0, 4.0, 2)) + rng.normal(0.0, 0.05, (n, 2))
+        samples = [(float(a), float(b), float(c)) for a, (b, c) in zip(t, xy)]
+        slopes = np.polyfit(t - t[-1], xy, 1)[0]
+        assert fit_velocity(samples, 3) == pytest.approx(tuple(slopes), rel=1e-9, abs=1e-9)

@@ -58,3 +58,41 @@ def test_stale_own_vision_gives_no_obstacles(make_model, see):
     see(model, 10.0, obstacles=((1.0, 1.0),))
     assert len(model.snapshot(10.29).obstacles) == 1
     assert model.snapshot(10.31).obstacles == ()
+
+
+def _reference_labels(me, agent_id, own, reported, mates, teammate_radius, merge_radius):
+    """The rules of label_obstacles written out plainly (the implementation is tuned for speed)."""
+    merged = [(p, agent_id) for p in own]
+    for observer in sorted(reported):
+        for p in reported[observer]:
+            if math.hypot(p[0] - me.x, p[1] - me.y) <= teammate_radius:
+                continue
+            if not any(math.hypot(p[0] - q[0], p[1] - q[1]) <= merge_radius for q, _ in merged):
+                merged.append((p, observer))
+    out = []
+    for (x, y), observer in merged:
+        distances = {aid: math.hypot(x - mx, y - my) for aid, (mx, my) in mates.items() if aid != agent_id}
+        near = [aid for aid, d in distances.items() if d <= teammate_radius]
+        mate = min(near, key=lambda aid: (distances[aid], aid)) if near else 0
+        out.append((x, y, ObstacleLabel.TEAMMATE if mate else ObstacleLabel.OPPONENT, mate, observer))
+    return out
+
+
+def test_labelling_random_scenes_follows_the_rules():
+    import random
+
+    rng = random.Random(7)
+    for _ in range(300):
+        robots = [(rng.uniform(-9, 9), rng.uniform(-6, 6)) for _ in range(10)]
+        me = Pose2D(*robots[0], rng.uniform(-3, 3))
+
+        def noisy(points):
+            return [(x + rng.gauss(0, 0.2), y + rng.gauss(0, 0.2)) for x, y in points]
+
+        reported = {aid: noisy([r for j, r in enumerate(robots) if j != aid - 1])
+                    for aid in range(2, 6) if rng.random() < 0.8}
+        mates = {aid: robots[aid - 1] for aid in reversed(list(reported))}
+        args = (me, 1, noisy(robots[1:]), reported, mates, 0.5, 0.5)
+        out = label_obstacles(*args)
+        assert [(o.x, o.y, o.label, o.teammate_id, o.observer_id) for o in out] == _reference_labels(*args)
+        assert all(o.radius == pytest.approx(me.distance_to(o.x, o.y)) for o in out)
