@@ -60,6 +60,8 @@ class WorldModel:
         self._strategy: StrategyReport | None = None
         self._mate_strategies: dict[int, StrategyReport] = {}
         self._last_ball: Point | None = None
+        self._made_report: tuple[RobotReport, StrategyReport, RobotReport] | None = None  # inputs and own report
+        self._made_ball: tuple[BallPercept, tuple[float, float] | None, BallPercept] | None = None  # likewise
 
     def _note_time(self, t: float) -> None:
         if t < self._clock - _TIME_JUMP:
@@ -84,9 +86,13 @@ class WorldModel:
     def on_vision(self, frame: RobotView) -> None:
         """Own percepts of the frame taken at ``frame.stamp``; ``frame.ball`` None when the ball is not seen."""
         self._note_time(frame.stamp)
-        robot = replace(frame.robot, agent_id=self.agent_id)  # the sender's ID field may be unset on a real robot
+        # The records are frozen: one that needs no change is kept as it is (replace costs microseconds, and
+        # every robot takes several records a cycle).
+        robot = frame.robot
+        if robot.agent_id != self.agent_id:  # the sender's ID field may be unset on a real robot
+            robot = replace(robot, agent_id=self.agent_id)
         ball = self._plausible(frame.ball)
-        self._vision = replace(frame, robot=robot, ball=ball)
+        self._vision = frame if robot is frame.robot and ball is frame.ball else replace(frame, robot=robot, ball=ball)
         if ball is not None:
             self._own_track.add(ball)
 
@@ -104,7 +110,7 @@ class WorldModel:
         ball = self._plausible(view.ball)
         if ball is not None and ball.stamp <= 0.0:
             ball = replace(ball, stamp=stamp)
-        self._mates[aid] = replace(view, stamp=stamp, ball=ball)
+        self._mates[aid] = view if stamp == view.stamp and ball is view.ball else replace(view, stamp=stamp, ball=ball)
         if ball is not None:
             self._mate_tracks.setdefault(aid, BallTrack(self._keep)).add(ball)
         return True
@@ -122,7 +128,9 @@ class WorldModel:
         if strategy.agent_id not in (0, self.agent_id):
             raise WorldModelError(f"own strategy carries AgentID {strategy.agent_id}, this robot is {self.agent_id}")
         self._note_time(t)
-        self._strategy = replace(strategy, agent_id=self.agent_id, stamp=strategy.stamp if strategy.stamp > 0 else t)
+        if strategy.agent_id != self.agent_id or not strategy.stamp > 0:
+            strategy = replace(strategy, agent_id=self.agent_id, stamp=strategy.stamp if strategy.stamp > 0 else t)
+        self._strategy = strategy
 
     def on_teammate_strategy(self, t: float, strategy: StrategyReport) -> bool:
         """A teammate's strategy received at ``t`` (its pass command; that it plays); False for this robot's own."""
@@ -130,7 +138,7 @@ class WorldModel:
             return False
         self._teammate_id(strategy.agent_id, "teammate strategy")
         self._note_time(t)
-        self._mate_strategies[strategy.agent_id] = replace(strategy, stamp=strategy.stamp if strategy.stamp > 0 else t)
+        self._mate_strategies[strategy.agent_id] = strategy if strategy.stamp > 0 else replace(strategy, stamp=t)
         return True
 
     # --- outputs --------------------------------------------------------------------------
@@ -141,12 +149,15 @@ class WorldModel:
     def _own_report(self) -> RobotReport | None:
         if self._vision is None:
             return None
-        report = self._vision.robot
-        s = self._strategy
-        if s is not None:
-            report = replace(report, role=s.role, role_time=s.role_time, target_nums=s.target_nums,
-                             static_pass=s.static_pass, static_catch=s.static_catch, target=s.target)
-        return report
+        report, s = self._vision.robot, self._strategy
+        if s is None:
+            return report
+        made = self._made_report  # asked for twice a cycle (snapshot, own_view): made once per input
+        if made is None or made[0] is not report or made[1] is not s:
+            made = (report, s, replace(report, role=s.role, role_time=s.role_time, target_nums=s.target_nums,
+                                       static_pass=s.static_pass, static_catch=s.static_catch, target=s.target))
+            self._made_report = made
+        return made[2]
 
     def _playing(self, t: float, agent_id: int) -> bool:
         """A teammate plays unless its strategy fell silent while others' are heard (its control stopped)."""
@@ -171,8 +182,12 @@ class WorldModel:
         if latest is None or t - latest.stamp > self.params.ball_timeout:
             return None
         velocity = self._own_track.velocity(self.params.velocity_window, self.params.min_fit_samples)
-        vx, vy = velocity or (0.0, 0.0)
-        return replace(latest, vx=vx, vy=vy, velocity_known=velocity is not None)
+        made = self._made_ball  # asked for twice a cycle (snapshot, own_view): made once per input
+        if made is None or made[0] is not latest or made[1] != velocity:
+            vx, vy = velocity or (0.0, 0.0)
+            made = (latest, velocity, replace(latest, vx=vx, vy=vy, velocity_known=velocity is not None))
+            self._made_ball = made
+        return made[2]
 
     def _mate_ball(self, t: float, agent_id: int) -> BallPercept | None:
         view = self._mates.get(agent_id)
@@ -186,7 +201,7 @@ class WorldModel:
         if self._vision is None or me.report is None:
             return None
         fresh = t - self._vision.stamp <= self.params.ball_timeout
-        report = replace(me.report, valid=me.valid)
+        report = me.report if me.report.valid == me.valid else replace(me.report, valid=me.valid)
         return RobotView(self._vision.stamp, report, self._own_ball(t), self._vision.obstacles if fresh else ())
 
     def snapshot(self, t: float) -> WorldState:
