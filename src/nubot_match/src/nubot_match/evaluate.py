@@ -139,7 +139,7 @@ class DaskRunner:
         from distributed import Client
 
         try:
-            self.client = Client(scheduler, timeout=30)
+            self.client = Client(scheduler, timeout=10)
         except (OSError, TimeoutError) as exc:
             raise NubotMatchError(f"cannot reach the dask scheduler {scheduler}: {exc}") from None
         workers = len(self.client.scheduler_info().get("workers", {}))

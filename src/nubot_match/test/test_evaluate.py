@@ -1,0 +1,143 @@
+"""Many-match evaluation: the command line on this machine's cores, Ctrl-C, a dask cluster, bad input, statistics."""
+
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+import yaml
+
+from nubot_match.evaluate import jobs_for
+from nubot_match.statistics import MatchResult, mean_interval, share_interval, summarise, verdict
+from nubot_tools.processes import wait_until
+
+WORKSPACE = Path(__file__).resolve().parents[3]
+SCRIPT = WORKSPACE / "scripts" / "evaluate.py"
+
+
+def teams(tmp_path, robots=2):
+    poses = [{"x": -8.4, "y": 0.0}, {"x": -1.0, "y": 0.5}][:robots]
+    paths = []
+    for prefix, attack in (("nubot", 1), ("rival", -1)):
+        path = tmp_path / f"{prefix}.yaml"
+        path.write_text(yaml.safe_dump({"name": prefix, "prefix": prefix, "attack": attack, "goalie": 1,
+                                        "robots": poses}))
+        paths.append(str(path))
+    return paths
+
+
+def evaluate(*args, timeout=300):
+    return subprocess.run([sys.executable, str(SCRIPT), *map(str, args)], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def result(index, home_goals, away_goals):
+    figures = dict.fromkeys(("passes_completed", "possession", "shots", "collisions"), 0.0)
+    return MatchResult(index, index, 1, {**figures, "goals": home_goals}, {**figures, "goals": away_goals}, 1, 1, 1)
+
+
+def test_the_statistics_give_intervals_and_a_verdict_that_says_who_is_better():
+    results = [result(i, g, a) for i, (g, a) in enumerate([(2, 0), (1, 0), (3, 1), (1, 1), (2, 0), (2, 1)])]
+    s = summarise(results, "A", "B")
+    d = s.goal_difference
+    assert d.mean == pytest.approx(8 / 6) and d.low > 0 and d.high > d.mean
+    assert verdict(s).startswith("A better than B by +1.3 goals per match, 95 % CI [")
+    assert s.outcomes["wins"][0] == 5 and s.outcomes["draws"][0] == 1
+    flipped = summarise([result(i, a, g) for i, (g, a) in enumerate([(2, 0), (1, 0), (3, 1)])], "A", "B")
+    assert verdict(flipped).startswith("B better than A")
+    even = summarise([result(0, 1, 0), result(1, 0, 1)], "A", "B")
+    assert verdict(even).startswith("no clear difference between A and B")
+    one = mean_interval([2.0])
+    assert one.mean == 2.0 and math.isnan(one.low)
+    share = share_interval(0, 10)
+    assert share.mean == 0.0 and share.low == 0.0 and 0.2 < share.high < 0.35  # Wilson, not 0 +- 0
+
+
+def test_seeds_repeat_in_pairs_with_the_sides_swapped():
+    jobs = jobs_for("a.yaml", "b.yaml", 5, 60.0, seed=7)
+    assert [(j.seed, j.swapped) for j in jobs] == [(7, False), (7, True), (8, False), (8, True), (9, False)]
+
+
+def test_an_evaluation_on_two_cores_prints_its_table_and_verdict_and_keeps_its_files(tmp_path):
+    home, away = teams(tmp_path)
+    out = tmp_path / "eval"
+    done = evaluate("--home", home, "--away", away, "--matches", 2, "--half-seconds", 3, "--halves", 1,
+                    "--jobs", 2, "--out", out)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "| goals |" in done.stdout and "95 % CI" in done.stdout
+    assert "NUBOT" in done.stdout and ("better than" in done.stdout or "no clear difference" in done.stdout)
+    assert "match/s" in done.stderr or "s/match" in done.stderr  # the progress bar with its rate and ETA
+    data = json.loads((out / "results.json").read_text())
+    assert data["finished"] == 2 and not data["interrupted"] and data["failures"] == []
+    assert {m["seed"] for m in data["matches"]} == {0}
+    assert {m["home_attacks"] for m in data["matches"]} == {1, -1}  # the sides were swapped once
+    assert data["throughput"]["sim_seconds_per_wall_second"] > 0
+    assert (out / "table.md").read_text().count("|") > 20 and (out / "goal_difference.png").stat().st_size > 1000
+
+
+def test_ctrl_c_stops_the_workers_and_keeps_the_finished_matches(tmp_path):
+    home, away = teams(tmp_path)
+    out = tmp_path / "eval"
+    process = subprocess.Popen([sys.executable, str(SCRIPT), "--home", home, "--away", away, "--matches", "20",
+                                "--half-seconds", "2", "--halves", "1", "--jobs", "1", "--out", str(out)],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        wait_until(lambda: (out / "results.json").exists() and
+                   json.loads((out / "results.json").read_text())["finished"] >= 1, 240, "a finished match")
+        os.killpg(process.pid, signal.SIGINT)  # what Ctrl-C does: the whole foreground group gets SIGINT
+        stdout, stderr = process.communicate(timeout=60)
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+    assert process.returncode == 1, stderr[-2000:]
+    assert "Traceback" not in stderr
+    assert "interrupted; stopping the workers" in stdout and "| goals |" in stdout
+    data = json.loads((out / "results.json").read_text())
+    assert data["interrupted"] and 1 <= data["finished"] < 20
+    time.sleep(0.5)
+    leftovers = subprocess.run(["pgrep", "-g", str(process.pid)], capture_output=True, text=True).stdout.split()
+    assert not leftovers, f"workers left running: {leftovers}"
+
+
+@pytest.mark.integration
+def test_the_same_evaluation_runs_on_a_local_two_worker_dask_cluster(tmp_path):
+    from distributed import LocalCluster
+
+    home, away = teams(tmp_path)
+    out = tmp_path / "eval"
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None) as cluster:
+        assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
+        done = evaluate("--home", home, "--away", away, "--matches", 2, "--half-seconds", 3, "--halves", 1,
+                        "--scheduler", cluster.scheduler_address, "--out", out)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "dask cluster" in done.stdout and "2 workers" in done.stdout
+    data = json.loads((out / "results.json").read_text())
+    assert data["finished"] == 2
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--matches", "-1"], "number of matches must lie in 1..100000, got -1"),
+    (["--jobs", "0"], "--jobs must be at least 1"),
+    (["--half-seconds", "0"], "half length"),
+    (["--home", "absent.yaml"], "cannot read absent.yaml"),
+    (["--scheduler", "tcp://127.0.0.1:9"], "cannot reach the dask scheduler"),
+])
+def test_bad_options_get_a_clear_error_and_no_traceback(tmp_path, args, message):
+    done = evaluate(*args, "--out", tmp_path / "eval", timeout=120)
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert message in done.stderr and "Traceback" not in done.stderr
+
+
+def test_a_team_naming_a_missing_strategy_module_is_refused_before_any_match(tmp_path):
+    home, away = teams(tmp_path)
+    data = yaml.safe_load(Path(home).read_text())
+    Path(home).write_text(yaml.safe_dump({**data, "strategy": "my_missing_strategy:Clever"}))
+    done = evaluate("--home", home, "--away", away, "--matches", 2, "--out", tmp_path / "eval")
+    assert done.returncode == 2
+    assert "cannot import module 'my_missing_strategy'" in done.stderr and "Traceback" not in done.stderr
