@@ -22,6 +22,7 @@ Everything is vectorised over obstacles and samples; only the subtarget and refi
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
 import functools
 import math
@@ -331,10 +332,25 @@ class Trajectory:
         v = self.v[i] + frac[..., None] * (self.v[i + 1] - self.v[i])
         return xy, v
 
+    @functools.cached_property
+    def _rows(self) -> tuple[list[float], list[list[float]], list[list[float]], list[float]]:
+        """t, xy, v and speed as Python lists, for ``state_at``."""
+        return self.t.tolist(), self.xy.tolist(), self.v.tolist(), self.speed.tolist()
+
     def state_at(self, time: float) -> tuple[np.ndarray, np.ndarray]:
-        """Position (2,) and velocity (2,) at ``time`` [s]."""
-        xy, v = self.states_at(np.array([time]))
-        return xy[0], v[0]
+        """Position (2,) and velocity (2,) at ``time`` [s]: ``states_at`` for one time, in plain floats (it runs
+        several times a cycle, where numpy's per-call overhead outweighs the arithmetic)."""
+        t, xy, v, speed = self._rows
+        if len(t) == 1:
+            return np.array(xy[0]), np.array(v[0])
+        clipped = min(max(float(time), 0.0), t[-1])
+        i = min(max(bisect.bisect_right(t, clipped) - 1, 0), len(t) - 2)
+        frac = (clipped - t[i]) / (t[i + 1] - t[i])
+        v0, v1 = speed[i], speed[i + 1]
+        along = frac * (2.0 * v0 + (v1 - v0) * frac) / max(v0 + v1, 1e-12)
+        (x0, y0), (x1, y1), (vx0, vy0), (vx1, vy1) = xy[i], xy[i + 1], v[i], v[i + 1]
+        return (np.array((x0 + along * (x1 - x0), y0 + along * (y1 - y0))),
+                np.array((vx0 + frac * (vx1 - vx0), vy0 + frac * (vy1 - vy0))))
 
     def min_clearance(self, obstacles: Sequence[Disc]) -> float:
         """Smallest distance from any sample to any obstacle centre minus that obstacle's radius (inf if none)."""

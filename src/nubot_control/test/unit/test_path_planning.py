@@ -278,3 +278,15 @@ def test_states_at_interpolates_and_holds_the_ends():
     assert v == pytest.approx((P.max_accel * 0.1, 0.0), abs=1e-6)
     assert tr.min_clearance([]) == math.inf
     assert tr.min_clearance([Disc(2.0, 1.0, 0.2)]) == pytest.approx(0.8, abs=1e-6)
+
+
+def test_state_at_is_states_at_for_one_time():
+    tr = plan((0.0, 0.0), [(3.0, 2.0), (5.0, -1.0)], [Disc(1.5, 1.0, 0.26)], P, FIELD, start_velocity=(1.0, 0.5))
+    times = np.concatenate(([-1.0, 0.0], np.linspace(0.0, tr.duration, 97), [tr.duration + 2.0]))
+    xy, v = tr.states_at(times)
+    for i, time in enumerate(times.tolist()):
+        one_xy, one_v = tr.state_at(time)
+        assert one_xy.tolist() == pytest.approx(xy[i].tolist(), abs=1e-12)
+        assert one_v.tolist() == pytest.approx(v[i].tolist(), abs=1e-12)
+    still = plan((1.0, 1.0), [(1.0, 1.0)], [], P, FIELD)
+    assert still.state_at(0.5)[0].tolist() == [1.0, 1.0]
