@@ -10,8 +10,10 @@ HOME_TEAM_DEFAULT := src/nubot_control/config/teams/nubot.yaml
 AWAY_TEAM_DEFAULT := src/nubot_control/config/teams/rival.yaml
 MATCHES ?= 40
 SEED ?= 0
+SEEDS ?= 4
 
 .PHONY: setup match demo evaluate test unit integration bench soak lint clean
+.PHONY: bench-faithfulness
 
 setup:
 	@bash scripts/setup.sh
@@ -45,6 +47,12 @@ bench: setup
 	@$(ROS) python scripts/bench_sim.py --out bench/results
 	@$(ROS) python scripts/bench_tracking.py --out bench/results
 	@$(ROS) python scripts/bench_match.py --out bench/results
+	@$(ROS) python scripts/bench_lockstep.py --out bench/results
+
+# Lockstep against ROS on seeds 0..SEEDS-1, matches of 2 x HALF_SECONDS (the ROS ones at real time, on every core:
+# long, so not in bench): bench/results/faithfulness.{json,png}.
+bench-faithfulness: setup
+	@$(ROS) python scripts/bench_faithfulness.py --seeds $(SEEDS) --half-seconds $(HALF_SECONDS) --out bench/results
 
 # A full-length match (2 x 15 min) with every process's RSS and CPU sampled every 10 s: soak/soak.{json,png}.
 soak: setup

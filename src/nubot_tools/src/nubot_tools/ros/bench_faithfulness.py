@@ -1,0 +1,176 @@
+"""Benchmark the lockstep engine's faithfulness: the same seeded matches in lockstep and over ROS, compared.
+
+    python scripts/bench_faithfulness.py [--seeds 4] [--half-seconds 90] [--out bench/results] [--quick]
+                                         [--skip-ros | --skip-lockstep]
+
+Requires: the shipped teams (nubot against rival, the configured tracker, the 18 x 12 m field); for the ROS
+part the whole stack (``scripts/run_match.py``: roscore, simulator, 20 nodes, referee, rosbag, at real
+time: about 2 x ``--half-seconds`` plus stoppages and start-up per seed, on every core). For seeds
+0..N-1 it plays a lockstep match (``nubot_match``: ``match_config(..., half_seconds=H, halves=2,
+seed=s)``, ``MatchLogRecorder``, ``nubot_tools.match_analysis.analyse``) and a ROS match
+(``run_match.py --half-seconds H --halves 2 --seed s``, its ``report.json``), and compares per match:
+
+- goals per minute of running time (both teams);
+- passes completed (both teams);
+- possession share of the home team (nubot) of running time;
+- robot-robot collisions per minute of running time.
+
+Provides: ``<out>/faithfulness.json`` (per metric the mean and 95 % Student-t interval,
+``nubot_match.statistics.mean_interval``, for lockstep and ROS and whether the two intervals overlap; every
+match's figures; ROS matches cut short are listed but left out of the intervals) and
+``<out>/faithfulness.png`` (per metric both means with their intervals). The ROS matches' folders are kept
+in ``<out>/faithfulness/ros/seed-<s>/``. Not part of ``make bench``: run
+``make bench-faithfulness SEEDS=4 HALF_SECONDS=90``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import subprocess
+import sys
+import time
+from dataclasses import asdict
+from pathlib import Path
+
+from nubot_tools.workspace import WORKSPACE
+
+METRICS = {"goals_per_minute": "goals per minute of running time",
+           "passes_completed": "passes completed per match",
+           "possession_share": "home team's possession share",
+           "collisions_per_minute": "robot-robot collisions per minute"}
+HOME_TEAM = "nubot"  # the first team of run_match.py and of match_config, kicking off at -x
+QUICK_SEEDS, QUICK_HALF_SECONDS = 2, 10.0
+
+
+def figures(report: dict, home: str = HOME_TEAM) -> dict[str, float]:
+    """The compared metrics of one match from its report (``MatchSummary.to_json()`` or report.json)."""
+    minutes = report["running_time_s"] / 60.0
+    goals = sum(report["score"].values())
+    return {"goals_per_minute": round(goals / minutes, 4) if minutes > 0 else 0.0,
+            "passes_completed": float(sum(p["completed"] for p in report["passes"].values())),
+            "possession_share": float(report["possession"].get(home, {}).get("share", 0.0)),
+            "collisions_per_minute": float(report["collisions"]["per_minute"]),
+            "running_time_s": float(report["running_time_s"]), "goals": float(goals)}
+
+
+def play_lockstep(seed: int, half_seconds: float) -> dict:
+    from nubot_match.config import match_config
+    from nubot_match.engine import LockstepMatch
+    from nubot_match.record import MatchLogRecorder
+    from nubot_tools.match_analysis import analyse
+
+    config = match_config(half_seconds=half_seconds, halves=2, seed=seed)
+    recorder = MatchLogRecorder()
+    match = LockstepMatch(config, [recorder])
+    match.reset(seed)
+    start = time.perf_counter()
+    match.run()
+    wall = time.perf_counter() - start
+    home = config.teams[0].config
+    summary = analyse(recorder.finish(), config.world, (home.prefix, home.attack))
+    return {"seed": seed, "sim_seconds": round(match.time, 2), "wall_seconds": round(wall, 2),
+            **figures(summary.to_json(), home.prefix)}
+
+
+def play_ros(seed: int, half_seconds: float, folder: Path) -> dict:
+    folder.mkdir(parents=True, exist_ok=True)
+    start = time.monotonic()
+    status = subprocess.run([sys.executable, str(WORKSPACE / "scripts" / "run_match.py"), "--half-seconds",
+                             str(half_seconds), "--halves", "2", "--seed", str(seed), "--out", str(folder)],
+                            check=False).returncode
+    wall = time.monotonic() - start
+    matches = sorted(folder.glob("match-*/report.json"), key=lambda p: p.stat().st_mtime)
+    if not matches:
+        raise RuntimeError(f"the ROS match of seed {seed} left no report in {folder} (status {status})")
+    report = json.loads(matches[-1].read_text())
+    run_file = matches[-1].parent / "run.json"
+    run = json.loads(run_file.read_text()) if run_file.exists() else {}
+    return {"seed": seed, "status": status, "ended": run.get("ended", "unknown"), "folder": str(matches[-1].parent),
+            "sim_seconds": run.get("sim_time"), "wall_seconds": round(wall, 1), **figures(report)}
+
+
+def _plain(x: float) -> float | None:
+    return None if math.isnan(x) else round(x, 4)
+
+
+def compare(lockstep: list[dict], ros: list[dict]) -> dict:
+    """Per metric: mean and 95 % interval of each kind of match and whether the two intervals overlap."""
+    from nubot_match.statistics import mean_interval
+
+    out = {}
+    for metric, words in METRICS.items():
+        a = mean_interval([m[metric] for m in lockstep])
+        b = mean_interval([m[metric] for m in ros])
+        known = not any(math.isnan(x) for x in (a.low, a.high, b.low, b.high))
+        out[metric] = {"description": words,
+                       "lockstep": {k: _plain(v) for k, v in asdict(a).items()},
+                       "ros": {k: _plain(v) for k, v in asdict(b).items()},
+                       "intervals_overlap": (a.low <= b.high and b.low <= a.high) if known else None}
+    return out
+
+
+def plot(comparison: dict, path: Path, title: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(comparison), figsize=(3.2 * len(comparison), 3.8))
+    for ax, row in zip(axes, comparison.values()):
+        for x, kind, colour in ((0, "lockstep", "tab:blue"), (1, "ros", "tab:orange")):
+            mean, low, high = (row[kind][k] for k in ("mean", "low", "high"))
+            if mean is None:
+                continue
+            err = [[mean - low], [high - mean]] if low is not None and high is not None else None
+            ax.errorbar([x], [mean], yerr=err, fmt="o", color=colour, capsize=6)
+        ax.set_xticks([0, 1], ["lockstep", "ROS"])
+        ax.set_xlim(-0.6, 1.6)
+        overlap = row["intervals_overlap"]
+        ax.set_title(f"{row['description']}\n" + ("" if overlap is None else
+                                                  "intervals overlap" if overlap else "intervals apart"), fontsize=8)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--seeds", type=int, default=4, help="seeds 0..N-1, one match of each kind per seed")
+    parser.add_argument("--half-seconds", type=float, default=90.0, help="[s of game time]; two halves")
+    parser.add_argument("--quick", action="store_true",
+                        help=f"{QUICK_SEEDS} seeds of 2 x {QUICK_HALF_SECONDS:g} s (a smoke run)")
+    skip = parser.add_mutually_exclusive_group()
+    skip.add_argument("--skip-ros", action="store_true", help="lockstep matches only")
+    skip.add_argument("--skip-lockstep", action="store_true", help="ROS matches only")
+    args = parser.parse_args(argv)
+    seeds, half = (QUICK_SEEDS, QUICK_HALF_SECONDS) if args.quick else (args.seeds, args.half_seconds)
+    if seeds < 1 or not half > 0:
+        parser.error("--seeds must be at least 1 and --half-seconds positive")
+    args.out.mkdir(parents=True, exist_ok=True)
+    lockstep: list[dict] = []
+    ros: list[dict] = []
+    for seed in range(seeds):
+        if not args.skip_lockstep:
+            print(f"[bench] faithfulness: lockstep match, seed {seed}, 2 x {half:g} s ...", flush=True)
+            lockstep.append(play_lockstep(seed, half))
+        if not args.skip_ros:
+            print(f"[bench] faithfulness: ROS match, seed {seed}, 2 x {half:g} s at real time ...", flush=True)
+            ros.append(play_ros(seed, half, args.out / "faithfulness" / "ros" / f"seed-{seed}"))
+    complete = [m for m in ros if m["ended"] != "cut short"]  # a match cut short has other running time
+    comparison = compare(lockstep, complete)
+    result = {"seeds": list(range(seeds)), "half_seconds": half, "halves": 2, "quick": args.quick,
+              "confidence": 0.95, "interval": "Student t over the per-match values (nubot_match.statistics)",
+              "comparison": comparison, "lockstep_matches": lockstep, "ros_matches": ros,
+              "ros_seeds_cut_short": [m["seed"] for m in ros if m["ended"] == "cut short"]}
+    (args.out / "faithfulness.json").write_text(json.dumps(result, indent=2) + "\n")
+    plot(comparison, args.out / "faithfulness.png",
+         f"lockstep ({len(lockstep)}) vs ROS ({len(complete)}) matches of 2 x {half:g} s, mean and 95 % CI")
+    for row in comparison.values():
+        print(f"{row['description']:<40} lockstep {row['lockstep']['mean']}  ROS {row['ros']['mean']}  "
+              f"overlap: {row['intervals_overlap']}")
+    print(f"figures: {args.out / 'faithfulness.json'}, {args.out / 'faithfulness.png'}")
+    return 0

@@ -1,0 +1,38 @@
+"""The lockstep benchmark's smoke run: its cheap parts write lockstep.json with positive figures and the plot."""
+
+import json
+import os
+
+import pytest
+
+from nubot_tools import bench_lockstep
+
+
+def test_quick_run_writes_positive_figures(tmp_path):
+    before = os.sched_getaffinity(0)
+    assert bench_lockstep.main(["--quick", "--only", "lockstep,physics,env", "--out", str(tmp_path)]) == 0
+    assert os.sched_getaffinity(0) == before  # pinning ends with the measurement
+    data = json.loads((tmp_path / "lockstep.json").read_text())
+    assert data["machine"]["cpus"] >= 1 and len(data["machine"]["load_average_start"]) == 3
+    assert "a loaded machine lowers them" in data["machine"]["note"]
+    for tracker in ("mpc", "baseline"):
+        case = data["lockstep"][tracker]
+        for key in ("sim_seconds_per_wall_second", "agent_cycles_per_second", "us_per_agent_cycle",
+                    "us_per_physics_step", "us_per_physics_step_ode"):
+            assert case[key] > 0, (tracker, key)
+        assert case["sim_seconds"] == pytest.approx(10.0, abs=0.01)
+        assert case["agent_cycles"] == pytest.approx(10 * 33 * 10, rel=0.1)  # 10 robots at 33 Hz for 10 s
+    physics = data["physics"]
+    assert physics["simulator"]["steps_per_second"] > 0 and physics["simulator"]["robots"] == 10
+    assert physics["simulator"]["samples_with_robot_contact_share"] > 0  # the robots do meet
+    assert physics["pyode"]["steps_per_second"] > 0 and physics["pyode_robots_on_ground"]["contacts_per_step"] > 0
+    assert data["env"]["steps_per_second"] > 0
+    assert "memory" not in data and "evaluate" not in data
+    assert (tmp_path / "lockstep.png").stat().st_size > 0
+
+
+def test_unknown_part_is_refused(capsys):
+    with pytest.raises(SystemExit):
+        bench_lockstep.main(["--only", "physics,warp"])
+    err = capsys.readouterr().err
+    assert "parts are lockstep, recording, physics, env, memory, evaluate; got 'physics,warp'" in err
