@@ -38,23 +38,28 @@ def observe(stamp: float, me: RobotState, frame: TeamFrame, agent_id: int, flags
     tx, ty = frame.point_to_team(me.x, me.y)
     tvx, tvy = frame.velocity_to_team(me.vx, me.vy)
     truth = Pose2D(tx, ty, frame.heading_to_team(me.theta))
-    n = rng.normal(0.0, 1.0, size=6)
+    # What is in range is known before any noise is drawn: all the frame's noise comes from one call, in the
+    # order of one call per object (self, ball, robots), which gives the very same numbers.
+    things = [(ball.x, ball.y, ball.vx, ball.vy)] + [(r.x, r.y, r.vx, r.vy) for r in others]
+    relative = [truth.to_body(*frame.point_to_team(wx, wy)) for wx, wy, _, _ in things]
+    in_range = [not (noise.vision_range > 0.0 and math.hypot(bx, by) > noise.vision_range) for bx, by in relative]
+    n = rng.normal(0.0, 1.0, size=6 + 4 * sum(in_range)).tolist()
     est = Pose2D(tx + noise.self_position_std * n[0], ty + noise.self_position_std * n[1],
                  wrap_angle(truth.theta + noise.heading_std * n[2]))
     robot = RobotReport(agent_id, est, tvx + noise.velocity_std * n[3], tvy + noise.velocity_std * n[4], me.w,
                         valid=flags.valid, stuck=flags.stuck, holding=flags.holding, kicking=flags.kicking)
-
-    def seen(wx: float, wy: float, wvx: float, wvy: float) -> tuple[float, float, float, float] | None:
-        """(x, y, vx, vy) in the team frame as measured from the robot, or None when out of range."""
-        bx, by = truth.to_body(*frame.point_to_team(wx, wy))
-        if noise.vision_range > 0.0 and math.hypot(bx, by) > noise.vision_range:
-            return None
-        d = rng.normal(0.0, 1.0, size=4)
+    seen: list[tuple[float, float, float, float] | None] = []  # (x, y, vx, vy) in the team frame, or out of range
+    k = 6
+    for (_, _, wvx, wvy), (bx, by), visible in zip(things, relative, in_range):
+        if not visible:
+            seen.append(None)
+            continue
+        d = n[k:k + 4]
+        k += 4
         gx, gy = est.to_world(bx + noise.position_std * d[0], by + noise.position_std * d[1])
         vx, vy = frame.velocity_to_team(wvx, wvy)
-        return gx, gy, vx + noise.velocity_std * d[2], vy + noise.velocity_std * d[3]
-
-    ball_seen = seen(ball.x, ball.y, ball.vx, ball.vy)
+        seen.append((gx, gy, vx + noise.velocity_std * d[2], vy + noise.velocity_std * d[3]))
+    ball_seen = seen[0]
     percept = BallPercept(stamp, *ball_seen, velocity_known=True) if ball_seen is not None else None
-    obstacles = tuple((o[0], o[1]) for o in (seen(r.x, r.y, r.vx, r.vy) for r in others) if o is not None)
+    obstacles = tuple((o[0], o[1]) for o in seen[1:] if o is not None)
     return RobotView(stamp, robot, percept, obstacles)

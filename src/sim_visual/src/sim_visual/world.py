@@ -26,6 +26,14 @@ _NET_THICKNESS = 0.02  # [m]
 _BOUNCE_MIN_SPEED = 0.3  # slower impacts do not bounce [m/s]
 _ON_GROUND_TOLERANCE = 0.01  # [m]
 
+# ODE collision categories: ODE offers a pair to the near callback only when one geom's category is in the
+# other's collide mask, so the pairs that never make contacts (static geometry with itself, robots gliding above
+# the carpet) are dropped inside ODE instead of in a Python callback every step.
+_GROUND, _STATIC, _ROBOT, _BALL = 1, 2, 4, 8
+_COLLIDES = {"ground": _BALL, "post": _ROBOT | _BALL, "net": _ROBOT | _BALL, "wall": _ROBOT | _BALL,
+             "robot": _STATIC | _ROBOT | _BALL, "ball": _GROUND | _STATIC | _ROBOT}
+_CATEGORY = {"ground": _GROUND, "post": _STATIC, "net": _STATIC, "wall": _STATIC, "robot": _ROBOT, "ball": _BALL}
+
 
 @dataclass(frozen=True)
 class RobotState:
@@ -75,6 +83,10 @@ class PhysicsWorld:
         self._ball_holder: str | None = None
         self._ball_in_net = False
         self._static: list[ode.GeomObject] = []
+        # States read since the last change, by robot name: a step, an observation of every robot and the
+        # controllers ask for the same states many times between two changes.
+        self._robot_states: dict[str, RobotState] = {}
+        self._ball_state: BallState | None = None
         self._build_field()
         self._ball = ode.Body(self._world)
         mass = ode.Mass()
@@ -82,26 +94,31 @@ class PhysicsWorld:
         self._ball.setMass(mass)
         self._ball_geom = ode.GeomSphere(self._space, ball.radius)
         self._ball_geom.setBody(self._ball)
-        self._kind[self._ball_geom] = "ball"
+        self._classify(self._ball_geom, "ball")
         self.set_ball_state(BallState(0.0, 0.0, ball.radius, 0.0, 0.0, 0.0))
 
     # --- construction -------------------------------------------------------------
+    def _classify(self, geom: ode.GeomObject, kind: str) -> None:
+        self._kind[geom] = kind
+        geom.setCategoryBits(_CATEGORY[kind])
+        geom.setCollideBits(_COLLIDES[kind])
+
     def _static_box(self, kind: str, size: tuple[float, float, float], centre: tuple[float, float, float]) -> None:
         geom = ode.GeomBox(self._space, size)
         geom.setPosition(centre)
-        self._kind[geom] = kind
+        self._classify(geom, kind)
         self._static.append(geom)
 
     def _build_field(self) -> None:
         f = self.field
         ground = ode.GeomPlane(self._space, (0.0, 0.0, 1.0), 0.0)
-        self._kind[ground] = "ground"
+        self._classify(ground, "ground")
         self._static.append(ground)
         for side in (-1, 1):
             for px, py in f.goal_posts(side):
                 post = ode.GeomCylinder(self._space, f.post_radius, f.goal_height)
                 post.setPosition((px, py, f.goal_height / 2.0))
-                self._kind[post] = "post"
+                self._classify(post, "post")
                 self._static.append(post)
             outer_y = f.goal_width / 2.0 + 2.0 * f.post_radius
             bar_x = side * (f.half_length + f.post_radius)
@@ -141,7 +158,7 @@ class PhysicsWorld:
         holder.setGeom(cylinder)
         cylinder.setPosition((0.0, 0.0, rb.height / 2.0))
         holder.setBody(body)
-        self._kind[holder] = "robot"
+        self._classify(holder, "robot")
         self._robot_of_geom[holder] = name
         self._robots[name] = (body, holder)
         self.set_robot_state(name, RobotState(x, y, theta, 0.0, 0.0, 0.0))
@@ -150,6 +167,7 @@ class PhysicsWorld:
         body, holder = self._robot(name)
         self._space.remove(holder)
         del self._kind[holder], self._robot_of_geom[holder], self._robots[name]
+        self._robot_states.pop(name, None)
         body.disable()
 
     def _robot(self, name: str) -> tuple[ode.Body, ode.GeomObject]:
@@ -159,13 +177,18 @@ class PhysicsWorld:
             raise SimVisualError(f"no robot named {name!r}; robots: {', '.join(self._robots) or 'none'}") from None
 
     def robot_state(self, name: str) -> RobotState:
-        body, _ = self._robot(name)
-        x, y, _z = body.getPosition()
-        vx, vy, _vz = body.getLinearVel()
-        return RobotState(x, y, quaternion_to_yaw(*_xyzw(body.getQuaternion())), vx, vy, body.getAngularVel()[2])
+        state = self._robot_states.get(name)
+        if state is None:
+            body, _ = self._robot(name)
+            x, y, _z = body.getPosition()
+            vx, vy, _vz = body.getLinearVel()
+            state = RobotState(x, y, quaternion_to_yaw(*_xyzw(body.getQuaternion())), vx, vy, body.getAngularVel()[2])
+            self._robot_states[name] = state
+        return state
 
     def set_robot_state(self, name: str, state: RobotState) -> None:
         body, _ = self._robot(name)
+        self._robot_states.pop(name, None)
         body.setPosition((state.x, state.y, 0.0))
         body.setQuaternion(_wxyz(yaw_to_quaternion(state.theta)))
         body.setLinearVel((state.vx, state.vy, 0.0))
@@ -174,17 +197,21 @@ class PhysicsWorld:
     def set_robot_velocity(self, name: str, vx: float, vy: float, w: float) -> None:
         """Drive a robot with a world-frame velocity [m/s] and yaw rate [rad/s]."""
         body, _ = self._robot(name)
+        self._robot_states.pop(name, None)
         body.setLinearVel((vx, vy, 0.0))
         body.setAngularVel((0.0, 0.0, w))
 
     # --- ball -------------------------------------------------------------------------
     def ball_state(self) -> BallState:
-        x, y, z = self._ball.getPosition()
-        vx, vy, vz = self._ball.getLinearVel()
-        wx, wy, wz = self._ball.getAngularVel()
-        return BallState(x, y, z, vx, vy, vz, wx, wy, wz)
+        if self._ball_state is None:
+            x, y, z = self._ball.getPosition()
+            vx, vy, vz = self._ball.getLinearVel()
+            wx, wy, wz = self._ball.getAngularVel()
+            self._ball_state = BallState(x, y, z, vx, vy, vz, wx, wy, wz)
+        return self._ball_state
 
     def set_ball_state(self, state: BallState) -> None:
+        self._ball_state = None
         self._ball.setPosition((state.x, state.y, max(state.z, self.ball_body.radius)))
         self._ball.setLinearVel((state.vx, state.vy, state.vz))
         self._ball.setAngularVel((state.wx, state.wy, state.wz))
@@ -203,6 +230,8 @@ class PhysicsWorld:
         """Advance the world by ``dt`` seconds; return the robots that touched the ball."""
         self._touched = set()
         self._ball_in_net = False
+        self._robot_states.clear()
+        self._ball_state = None
         self._space.collide(None, self._near)
         self._world.step(dt)  # the exact solver: quickStep reorders constraints with a process-global RNG
         self._contacts.empty()
@@ -210,6 +239,8 @@ class PhysicsWorld:
         if self._ball_in_net:
             self._absorb_in_net()
         self._apply_rolling_resistance(dt)
+        self._robot_states.clear()
+        self._ball_state = None
         return self._touched
 
     def _near(self, _args: object, geom_a: ode.GeomObject, geom_b: ode.GeomObject) -> None:
@@ -217,8 +248,9 @@ class PhysicsWorld:
         if kind_a is None or kind_b is None:
             return
         pair = frozenset((kind_a, kind_b))
+        # The collision categories keep robots off the carpet and static geometry off itself; kept here too.
         if "ground" in pair and "robot" in pair or kind_a != "ball" and kind_b != "ball" and "robot" not in pair:
-            return  # robots glide above the carpet; static geometry never collides with itself
+            return
         if "ball" in pair and "robot" in pair:
             robot_geom = geom_a if kind_a == "robot" else geom_b
             name = self._robot_of_geom[robot_geom]
@@ -255,9 +287,12 @@ class PhysicsWorld:
         for body, _ in self._robots.values():
             x, y, _z = body.getPosition()
             vx, vy, _vz = body.getLinearVel()
-            yaw = quaternion_to_yaw(*_xyzw(body.getQuaternion()))
+            # quaternion_to_yaw and yaw_to_quaternion written out (ODE's order w, x, y, z): this runs for every
+            # robot every step
+            qw, qx, qy, qz = body.getQuaternion()
+            yaw = math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
             body.setPosition((x, y, 0.0))
-            body.setQuaternion(_wxyz(yaw_to_quaternion(yaw)))
+            body.setQuaternion((math.cos(yaw / 2.0), 0.0, 0.0, math.sin(yaw / 2.0)))
             body.setLinearVel((vx, vy, 0.0))
             body.setAngularVel((0.0, 0.0, body.getAngularVel()[2]))
 

@@ -61,3 +61,36 @@ def test_vision_range_hides_far_objects():
     noise = NoiseParams(0, 0, 0, 0, vision_range=1.5)
     frame = observe(0.0, ME, PLUS_X, 1, FLAGS, BALL, [OTHER], noise, np.random.default_rng(0))
     assert frame.ball is None and frame.obstacles == ()
+
+
+def _observe_one_draw_per_object(stamp, me, frame, agent_id, flags, ball, others, noise, rng):
+    """The frame as drawn object by object (self, ball, each robot in range): the order the noise must follow."""
+    from nubot_common.geometry import Pose2D, wrap_angle
+
+    tx, ty = frame.point_to_team(me.x, me.y)
+    truth = Pose2D(tx, ty, frame.heading_to_team(me.theta))
+    n = rng.normal(0.0, 1.0, size=6)
+    est = Pose2D(tx + noise.self_position_std * n[0], ty + noise.self_position_std * n[1],
+                 wrap_angle(truth.theta + noise.heading_std * n[2]))
+    seen = []
+    for wx, wy in [(ball.x, ball.y)] + [(r.x, r.y) for r in others]:
+        bx, by = truth.to_body(*frame.point_to_team(wx, wy))
+        if noise.vision_range > 0.0 and math.hypot(bx, by) > noise.vision_range:
+            seen.append(None)
+            continue
+        d = rng.normal(0.0, 1.0, size=4)
+        seen.append(est.to_world(bx + noise.position_std * d[0], by + noise.position_std * d[1]))
+    return est, seen
+
+
+@pytest.mark.parametrize("vision_range", [0.0, 2.5])
+def test_the_noise_is_drawn_in_one_call_with_the_numbers_of_one_draw_per_object(vision_range):
+    noise = NoiseParams(vision_range=vision_range)
+    others = [OTHER, RobotState(4.0, 2.0, 0.0, 0.0, 0.0, 0.0), RobotState(1.5, 2.5, 0.0, 0.0, 0.0, 0.0)]
+    frame = observe(3.0, ME, MINUS_X, 1, FLAGS, BALL, others, noise, np.random.default_rng(5))
+    est, seen = _observe_one_draw_per_object(3.0, ME, MINUS_X, 1, FLAGS, BALL, others, noise,
+                                             np.random.default_rng(5))
+    assert (frame.robot.pose.x, frame.robot.pose.y, frame.robot.pose.theta) == (est.x, est.y, est.theta)
+    assert (frame.ball.x, frame.ball.y) == seen[0]
+    assert list(frame.obstacles) == [p for p in seen[1:] if p is not None]
+    assert len(frame.obstacles) == (3 if vision_range == 0.0 else 2)

@@ -1,6 +1,7 @@
 """Unit tests of the simulator core: locomotion, dribbling, kicking, goals, physics, reset."""
 
 import math
+from dataclasses import astuple
 
 import pytest
 
@@ -359,3 +360,35 @@ def test_a_huge_velocity_command_is_clamped_to_a_speed_the_walls_stop(make_sim, 
     state = sim.world.robot_state("nubot1")
     field = sim.config.field
     assert field.is_inside(state.x, state.y, field.border), f"the walls hold the robot, got {state}"
+
+
+def test_a_robot_state_read_again_shows_every_change(make_sim, run):
+    sim = make_sim([("nubot1", 0.0, 0.0, 0.0), ("nubot2", 2.0, 0.0, 0.0)])
+    before = sim.world.robot_state("nubot1")
+    assert sim.world.robot_state("nubot1") == before
+    sim.world.set_robot_velocity("nubot1", 1.0, 0.5, 0.2)
+    assert (sim.world.robot_state("nubot1").vx, sim.world.robot_state("nubot1").vy) == (1.0, 0.5)
+    sim.set_model_state("nubot1", RobotState(-1.0, 1.0, 0.3, 0.0, 0.0, 0.0))
+    assert astuple(sim.world.robot_state("nubot1")) == pytest.approx((-1.0, 1.0, 0.3, 0.0, 0.0, 0.0))
+    sim.command_velocity("nubot1", 1.0, 0.0, 0.0)
+    run(sim, 0.1)
+    assert sim.world.robot_state("nubot1").x > -0.95
+    ball = sim.world.ball_state()
+    sim.set_model_state(sim.config.ball_name, BallState(1.0, 1.0, 0.11, 0.5, 0.0, 0.0))
+    assert sim.world.ball_state() != ball and sim.world.ball_state().x == 1.0
+
+
+def test_only_pairs_that_can_touch_reach_the_collision_callback(make_sim, run):
+    sim = make_sim([("nubot1", 0.0, 0.0, 0.0), ("nubot2", 0.5, 0.0, 0.0)], ball=(0.3, 0.3))
+    world, kinds = sim.world, []
+    near = world._near
+
+    def counting(args, a, b):
+        kinds.append(frozenset((world._kind[a], world._kind[b])))
+        near(args, a, b)
+
+    world._near = counting
+    run(sim, 0.2)
+    assert kinds, "robots, ball and carpet still meet"
+    assert all("ball" in pair or "robot" in pair for pair in kinds), "no static geometry against itself"
+    assert frozenset(("ground", "robot")) not in kinds, "robots glide above the carpet"
