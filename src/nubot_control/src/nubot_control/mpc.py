@@ -108,14 +108,17 @@ class MpcParams:
 
 
 def _array(value: ArrayLike, shape: tuple[int, ...], name: str) -> np.ndarray:
-    """``value`` as a finite float array of ``shape``, else ValueError."""
-    try:
-        array = np.array(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be numbers of shape {shape}: {exc}") from exc
+    """``value`` as a finite float array of ``shape``, else ValueError (a float array is used as it is: only read)."""
+    if isinstance(value, np.ndarray) and value.dtype == np.float64:
+        array = value
+    else:
+        try:
+            array = np.array(value, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{name} must be numbers of shape {shape}: {exc}") from exc
     if array.shape != shape:
         raise ValueError(f"{name} must have shape {shape}, got {array.shape}")
-    if not np.all(np.isfinite(array)):
+    if not np.isfinite(array).all():
         raise ValueError(f"{name} must be finite, got {array.tolist()}")
     return array
 
@@ -177,6 +180,7 @@ class LaguerreMpc:
                               for i in range(nc) for nx, ny in self._normals])
 
         self._a_speed, self._a_accel = rows(cumulative), rows(basis)
+        self._per_step = np.tile(np.arange(count), nc)  # a side's bound repeated for each constrained step
         accel = p.max_accel * p.dt * self._apothem
         self._accel_upper = np.full(nc * count, accel)
         self._accel_lower = -self._accel_upper if self._two_sided else np.full(nc * count, -np.inf)
@@ -202,10 +206,10 @@ class LaguerreMpc:
     def _speed_bounds(self, previous: np.ndarray, speed: float) -> tuple[np.ndarray, np.ndarray]:
         """Bounds on the speed rows: n_j . (u_{k-1} + du_k + ... + du_{k+i}) within the polygon of ``speed``."""
         offset = self._normals @ previous
-        upper = np.tile(speed * self._apothem - offset, self.params.constrained_steps)
+        upper = (speed * self._apothem - offset)[self._per_step]
         if not self._two_sided:
             return np.full_like(upper, -np.inf), upper
-        return np.tile(-speed * self._apothem - offset, self.params.constrained_steps), upper
+        return (-speed * self._apothem - offset)[self._per_step], upper
 
     def _move(self, previous: np.ndarray, eta: np.ndarray) -> np.ndarray:
         """The first command u_k = u_{k-1} + du_k of the plan ``eta``."""
@@ -238,7 +242,11 @@ class LaguerreMpc:
         if not (math.isfinite(accel) and 0.0 < accel <= p.max_accel):
             raise ValueError(f"max_accel must lie in (0, {p.max_accel}], got {max_accel}")
         step = accel * p.dt
-        accel_upper, accel_lower = self._accel_upper * (accel / p.max_accel), self._accel_lower * (accel / p.max_accel)
+        if accel == p.max_accel:  # the common case: the bounds as set up
+            accel_upper, accel_lower = self._accel_upper, self._accel_lower
+        else:
+            accel_upper, accel_lower = (self._accel_upper * (accel / p.max_accel),
+                                        self._accel_lower * (accel / p.max_accel))
 
         # Predicted errors e_{k+1..k+H} if u stayed u_{k-1} (eta = 0), shape (H, 2); then the QP gradient.
         free = position + np.outer(self._carry, previous) - ref_positions[1:]
@@ -248,8 +256,8 @@ class LaguerreMpc:
 
         speed_lower, speed_upper = self._speed_bounds(previous, speed)
         speed_rows, accel_rows = self._a_speed @ eta, self._a_accel @ eta
-        if (np.all(speed_rows <= speed_upper) and np.all(speed_rows >= speed_lower)
-                and np.all(accel_rows <= accel_upper) and np.all(accel_rows >= accel_lower)):
+        if ((speed_rows <= speed_upper).all() and (speed_rows >= speed_lower).all()
+                and (accel_rows <= accel_upper).all() and (accel_rows >= accel_lower).all()):
             status = "unconstrained"
             command = _project_two_discs(unconstrained, speed, previous, step)  # inside already, bar rounding
         else:
@@ -258,7 +266,7 @@ class LaguerreMpc:
             result = self._solver.solve(raise_error=False)
             status = str(result.info.status)
             command = None
-            if status in _USABLE and np.all(np.isfinite(result.x)):
+            if status in _USABLE and np.isfinite(result.x).all():
                 command = _project_two_discs(self._move(previous, np.asarray(result.x)), speed, previous, step)
                 if command is None:
                     status = "limits unreachable in one step"
