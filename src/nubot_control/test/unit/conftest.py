@@ -8,6 +8,7 @@ simulator through the robot interface (velocity, BallHandle requests, Shoot).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import pytest
@@ -26,6 +27,12 @@ VISION_PERIOD = 1.0 / 30.0  # [s]
 CONTROL_PERIOD = 1.0 / 33.0  # [s]
 
 
+@functools.cache
+def _team_of(name: str) -> str:
+    """A robot's team (parsed once per name: the team link asks for every pair of robots every cycle)."""
+    return parse_robot_name(name).team
+
+
 @dataclass
 class InProcessMatch:
     sim: Simulator
@@ -39,7 +46,7 @@ class InProcessMatch:
     _next_control: float = 0.0
 
     def team_of(self, name: str) -> str:
-        return parse_robot_name(name).team
+        return _team_of(name)
 
     def command(self, team: str, mode: MatchMode) -> None:
         """The coach's command to ``team``; the other team gets the mirrored one (as the referee sends them)."""
