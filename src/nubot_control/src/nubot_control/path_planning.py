@@ -552,12 +552,13 @@ def plan(start: Point, waypoints: Sequence[Point], obstacles: Sequence[Disc], pa
     s = np.arange(count + 1) * ds
     at = np.interp(s, s_dense, at)
     xy, d1, d2 = spline(at), spline(at, 1), spline(at, 2)
-    xy = np.clip(xy, (min(bounds.x_min, p0[0]), min(bounds.y_min, p0[1])),
-                 (max(bounds.x_max, p0[0]), max(bounds.y_max, p0[1])))
+    # minimum/maximum: np.clip's numbers without its call overhead
+    xy = np.minimum(np.maximum(xy, (min(bounds.x_min, p0[0]), min(bounds.y_min, p0[1]))),
+                    (max(bounds.x_max, p0[0]), max(bounds.y_max, p0[1])))
     norm = np.maximum(np.hypot(d1[:, 0], d1[:, 1]), 1e-9)
     curvature = np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / norm**3
     limit = np.sqrt(params.max_lateral_accel / np.maximum(curvature, 1e-12))
-    limit = np.clip(limit, _MIN_SPEED, params.max_speed)
+    limit = np.minimum(np.maximum(limit, _MIN_SPEED), params.max_speed)
     # What the curve leaves of max_accel for speeding up and braking (at the speed limit, the most it can take).
     lateral = np.minimum(limit * limit * curvature, params.max_lateral_accel)
     along = np.sqrt(np.maximum(params.max_accel ** 2 - lateral ** 2, (_MIN_ALONG * params.max_accel) ** 2))
