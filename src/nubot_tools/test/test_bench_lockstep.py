@@ -25,7 +25,10 @@ def test_quick_run_writes_positive_figures(tmp_path):
     physics = data["physics"]
     assert physics["simulator"]["steps_per_second"] > 0 and physics["simulator"]["robots"] == 10
     assert physics["simulator"]["samples_with_robot_contact_share"] > 0  # the robots do meet
-    assert physics["pyode"]["steps_per_second"] > 0 and physics["pyode_robots_on_ground"]["contacts_per_step"] > 0
+    for case in ("pyode", "pyode_scrum"):
+        assert physics[case]["steps_per_second"] > 0 and physics[case]["contacts_per_step"] > 1  # not just the ball
+    crowd = "robot_pairs_in_contact_mean"
+    assert physics["simulator_scrum"][crowd] > physics["simulator"][crowd]
     assert data["env"]["steps_per_second"] > 0
     assert "memory" not in data and "evaluate" not in data
     assert (tmp_path / "lockstep.png").stat().st_size > 0

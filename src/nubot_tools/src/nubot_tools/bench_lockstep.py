@@ -13,11 +13,13 @@ line); a table on stdout. Parts (``--only``, comma-separated; default all):
   ``Simulator.step`` per physics step [us] (of it in ``PhysicsWorld.step``, the ODE part), in sensing
   and the world models' vision updates; the rest is the engine (schedule, relay, referee).
   Target: 50x real time.
-- ``physics``: a ``Simulator`` with the 10 robots at the match's start poses and the ball, robots driven
-  towards the ball with varying velocity commands at 33 Hz (so they touch it and each other): physics
-  steps per second on one core (target 20,000); and pyode alone (``ode.World`` + ``ode.HashSpace``, 10
-  cylinders, a sphere, the ground plane, contact joints from ``space.collide``, the same exact solver)
-  for comparison (the reference saw 60,000-70,000 steps/s on this machine).
+- ``physics``: a ``Simulator`` with the 10 robots (the match's start poses) and the ball, robots driven
+  to places on a ring of radius ``RING`` about a point wandering near the centre spot, with varying
+  velocity commands at 33 Hz (so neighbours jostle and push the ball): physics steps per second on one
+  core (target 20,000); and pyode alone (``ode.World`` + ``ode.HashSpace``, 10 cylinders, a sphere, the
+  ground plane, contact joints from ``space.collide``, the same exact solver) driven alike, for
+  comparison (the reference saw 60,000-70,000 steps/s on this machine). Both again with every robot
+  heading for the one point (``*_scrum``): contacts cost most of a step.
 - ``env``: ``gymnasium.make("NuBot/ScoreAgainstGoalie-v0")`` with random actions: steps per second.
 - ``memory``: the peak RSS (``ru_maxrss``) of a fresh process after its imports and after playing one
   lockstep 5 vs 5 match (``nubot_match.evaluate.play_match``).
@@ -61,6 +63,7 @@ TARGET_REAL_TIME_FACTOR = 50.0  # sim seconds per wall second of a lockstep 5 vs
 TARGET_PHYSICS_STEPS = 20_000.0  # physics steps per second of the Simulator with 10 robots, one core
 TARGET_EVALUATE_SPEEDUP = 1.8  # throughput of --jobs 2 over --jobs 1
 PYODE_REFERENCE = (60_000.0, 70_000.0)  # steps/s the reference measured for pyode alone on this machine
+RING = 1.0  # [m] radius of the robots' ring in the physics benchmarks (0: all in one scrum)
 COMMAND_PERIOD = 1.0 / 33.0  # [s] velocity commands in the physics benchmarks, as the control nodes send them
 LOAD_NOTE = ("Wall-clock figures: a loaded machine lowers them (see load_average and, per "
              "pinned measurement, cpu_share = process CPU time / wall time; *_per_cpu_second is less affected).")
@@ -245,6 +248,14 @@ def start_poses() -> list[tuple[str, float, float, float, int]]:
     return [(name, x, y, yaw, t.config.attack) for t in config.teams for name, x, y, yaw in t.config.world_poses()]
 
 
+def meeting_point(i: int, count: int, t: float, ring: float) -> tuple[float, float]:
+    """Where robot ``i`` of ``count`` heads at sim time ``t`` [s]: its place on a ring of radius ``ring`` [m]
+    about a point wandering near the centre spot, so that neighbours jostle and push the ball (which starts
+    there); with ``ring`` 0 all of them head for that point (a scrum)."""
+    a = 2 * math.pi * i / count
+    return 1.5 * math.cos(0.2 * t) + ring * math.cos(a), math.sin(0.3 * t) + ring * math.sin(a)
+
+
 def chase_command(i: int, t: float, x: float, y: float, theta: float,
                   goal: tuple[float, float]) -> tuple[float, float, float]:
     """A body-frame velocity (vx, vy [m/s], w [rad/s]) towards ``goal``, its speed and turn varying in time."""
@@ -262,7 +273,7 @@ def robot_contacts(positions: Sequence[tuple[float, float]], distance: float) ->
                if math.hypot(a[0] - b[0], a[1] - b[1]) < distance)
 
 
-def bench_simulator(steps: int, cpu: int | None) -> dict:
+def bench_simulator(steps: int, cpu: int | None, ring: float) -> dict:
     from sim_visual.params import RobotSpawn, SimConfig
     from sim_visual.simulator import Simulator
 
@@ -275,10 +286,10 @@ def bench_simulator(steps: int, cpu: int | None) -> dict:
     with pinned(cpu), clock.measure():
         for k in range(warmup + steps):
             if sim.time + 1e-9 >= next_command:
-                ball = sim.world.ball_state()
                 for i, name in enumerate(names):
                     s = sim.world.robot_state(name)
-                    sim.command_velocity(name, *chase_command(i, sim.time, s.x, s.y, s.theta, (ball.x, ball.y)))
+                    goal = meeting_point(i, len(names), sim.time, ring)
+                    sim.command_velocity(name, *chase_command(i, sim.time, s.x, s.y, s.theta, goal))
                 next_command += COMMAND_PERIOD
             if k >= warmup and k % 20 == 0:
                 n = robot_contacts([(s.x, s.y) for s in map(sim.world.robot_state, names)], contact)
@@ -288,7 +299,8 @@ def bench_simulator(steps: int, cpu: int | None) -> dict:
             if k >= warmup:
                 stepping += time.perf_counter() - start
     dt = sim.config.physics.step_size
-    return {"robots": len(names), "steps": steps, "step_size_s": dt, "wall_seconds_in_step": _r(stepping, 3),
+    return {"robots": len(names), "ring_m": ring, "steps": steps, "step_size_s": dt,
+            "wall_seconds_in_step": _r(stepping, 3),
             "cpu_share": _r(clock.cpu_share, 3), "steps_per_second": _r(steps / stepping, 1),
             "us_per_step": _r(1e6 * stepping / steps, 1),
             "sim_seconds_per_wall_second": _r(steps * dt / stepping),
@@ -297,9 +309,9 @@ def bench_simulator(steps: int, cpu: int | None) -> dict:
             "target_steps_per_second": TARGET_PHYSICS_STEPS}
 
 
-def bench_pyode(steps: int, cpu: int | None, robots_on_ground: bool) -> dict:
-    """pyode alone; robots glide above the ground as in ``PhysicsWorld`` or, with ``robots_on_ground``, stand
-    on it under gravity (every robot in contact with the ground every step)."""
+def bench_pyode(steps: int, cpu: int | None, ring: float) -> dict:
+    """pyode alone, robots gliding above the ground (no gravity, no robot-ground contact) and kept upright in
+    their plane (``Plane2DJoint``) as ``PhysicsWorld`` keeps them."""
     import ode
 
     world = ode.World()
@@ -309,16 +321,19 @@ def bench_pyode(steps: int, cpu: int | None, robots_on_ground: bool) -> dict:
     space, joints = ode.HashSpace(), ode.JointGroup()
     ground = ode.GeomPlane(space, (0.0, 0.0, 1.0), 0.0)
     radius, height, ball_radius = 0.26, 0.75, 0.11
-    robots = []
+    robots, geoms = [], []  # pyode destroys a geom or joint nobody refers to: the space does not hold it
     for _name, x, y, _yaw, _attack in start_poses():
         body, mass = ode.Body(world), ode.Mass()
         mass.setCylinderTotal(31.0, 3, radius, height)
         body.setMass(mass)
-        body.setGravityMode(robots_on_ground)
+        body.setGravityMode(False)
         geom = ode.GeomCylinder(space, radius, height)
         geom.setBody(body)
-        body.setPosition((x, y, height / 2 if robots_on_ground else height / 2 + 0.01))
+        body.setPosition((x, y, height / 2 + 0.01))
+        plane = ode.Plane2DJoint(world)  # what PhysicsWorld's pinning does in Python, in C: no tilt, no lift
+        plane.attach(body, ode.environment)
         robots.append(body)
+        geoms.append((geom, plane))
     ball, mass = ode.Body(world), ode.Mass()
     mass.setSphereTotal(0.45, ball_radius)
     ball.setMass(mass)
@@ -328,7 +343,7 @@ def bench_pyode(steps: int, cpu: int | None, robots_on_ground: bool) -> dict:
     contacts = [0]
 
     def near(_args: object, a: ode.GeomObject, b: ode.GeomObject) -> None:
-        if ground in (a, b) and ball_geom not in (a, b) and not robots_on_ground:
+        if ground in (a, b) and ball_geom not in (a, b):
             return  # as PhysicsWorld: robots glide above the carpet
         for contact in ode.collide(a, b):
             contact.setMu(0.5)
@@ -342,11 +357,11 @@ def bench_pyode(steps: int, cpu: int | None, robots_on_ground: bool) -> dict:
         nonlocal commands, t
         for k in range(count):
             if k % 7 == 0:  # 33 Hz commands at a 5 ms step
-                bx, by, _ = ball.getPosition()
                 where = [body.getPosition() for body in robots]
-                commands = [chase_command(i, t, p[0], p[1], 0.0, (bx, by)) for i, p in enumerate(where)]
+                commands = [chase_command(i, t, p[0], p[1], 0.0, meeting_point(i, len(robots), t, ring))
+                            for i, p in enumerate(where)]
             for body, (vx, vy, w) in zip(robots, commands):
-                body.setLinearVel((vx, vy, body.getLinearVel()[2] if robots_on_ground else 0.0))
+                body.setLinearVel((vx, vy, 0.0))
                 body.setAngularVel((0.0, 0.0, w))
             space.collide(None, near)
             world.step(dt)
@@ -358,7 +373,7 @@ def bench_pyode(steps: int, cpu: int | None, robots_on_ground: bool) -> dict:
         contacts[0] = 0
         with clock.measure():
             advance(steps)
-    return {"bodies": len(robots) + 1, "robots_on_ground": robots_on_ground, "steps": steps,
+    return {"bodies": len(robots) + 1, "ring_m": ring, "steps": steps,
             "wall_seconds": _r(clock.wall, 3),
             "cpu_share": _r(clock.cpu_share, 3), "steps_per_second": _r(steps / clock.wall, 1),
             "steps_per_cpu_second": _r(steps / clock.cpu, 1) if clock.cpu > 0 else None,
@@ -446,15 +461,27 @@ def bench_evaluate(d: Durations) -> dict:
                                    "sim_seconds_per_wall_second": _r(sim / wall),
                                    "reported_sim_seconds_per_wall_second":
                                        data["throughput"]["sim_seconds_per_wall_second"],
+                                   "match_wall_seconds_mean": _r(sum(m["wall_seconds"] for m in data["matches"])
+                                                                 / max(len(data["matches"]), 1)),
                                    "rss_mib_max": data["throughput"]["rss_mib_max"]}
     one, two = runs["jobs1"]["sim_seconds_per_wall_second"], runs["jobs2"]["sim_seconds_per_wall_second"]
     return {"matches": d.evaluate_matches, "match": f"{d.evaluate_halves} x {d.evaluate_half:g} s", **runs,
             "speedup_jobs2_over_jobs1": _r(two / one, 3) if one > 0 else None,
             "target_speedup": TARGET_EVALUATE_SPEEDUP,
-            "note": "wall time includes forking the workers and the analysis of each match"}
+            "note": "wall time includes forking the workers and the analysis of each match; a match_wall_seconds_mean "
+                    "higher with --jobs 2 than with --jobs 1 means the workers did not get a core each (load)"}
 
 
 # --- the machine, the plot, the table -----------------------------------------------------------------------------
+def cpu_pressure() -> float | None:
+    """The kernel's share of the last 60 s in which some runnable task waited for a CPU [%] (PSI), if known."""
+    try:
+        some = Path("/proc/pressure/cpu").read_text().splitlines()[0]
+        return float(dict(f.split("=") for f in some.split()[1:])["avg60"])
+    except (OSError, IndexError, KeyError, ValueError):
+        return None
+
+
 def machine(cpu: int | None) -> dict:
     model = ""
     try:
@@ -464,7 +491,8 @@ def machine(cpu: int | None) -> dict:
         pass
     return {"cpus": os.cpu_count(), "affinity": sorted(os.sched_getaffinity(0)), "pinned_cpu": cpu,
             "cpu_model": model, "python": platform.python_version(), "platform": platform.platform(),
-            "load_average_start": [_r(x) for x in os.getloadavg()], "note": LOAD_NOTE}
+            "load_average_start": [_r(x) for x in os.getloadavg()],
+            "cpu_pressure_some_avg60_percent_start": cpu_pressure(), "note": LOAD_NOTE}
 
 
 def scenarios(results: dict) -> list[tuple[str, float]]:
@@ -525,8 +553,9 @@ def table(results: dict) -> str:
     physics = results.get("physics", {})
     if physics:
         lines.append(f"physics: Simulator {physics['simulator']['steps_per_second']:.0f} steps/s (target "
-                     f"{TARGET_PHYSICS_STEPS:.0f}), pyode alone {physics['pyode']['steps_per_second']:.0f} steps/s "
-                     f"({physics['pyode_robots_on_ground']['steps_per_second']:.0f} with robots on the ground)")
+                     f"{TARGET_PHYSICS_STEPS:.0f}), pyode alone {physics['pyode']['steps_per_second']:.0f} "
+                     f"steps/s; in a scrum {physics['simulator_scrum']['steps_per_second']:.0f} and "
+                     f"{physics['pyode_scrum']['steps_per_second']:.0f}")
     if "env" in results:
         lines.append(f"env: {results['env']['steps_per_second']:.0f} steps/s")
     if "memory" in results:
@@ -570,9 +599,10 @@ def main(argv: list[str] | None = None) -> int:
         elif part == "recording":
             results["recording"] = bench_recording(d, cpu, results.get("lockstep", {}).get("mpc"))
         elif part == "physics":
-            results["physics"] = {"simulator": bench_simulator(d.physics_steps, cpu),
-                                  "pyode": bench_pyode(d.pyode_steps, cpu, robots_on_ground=False),
-                                  "pyode_robots_on_ground": bench_pyode(d.pyode_steps, cpu, robots_on_ground=True)}
+            results["physics"] = {"simulator": bench_simulator(d.physics_steps, cpu, RING),
+                                  "pyode": bench_pyode(d.pyode_steps, cpu, RING),
+                                  "simulator_scrum": bench_simulator(d.physics_steps, cpu, 0.0),
+                                  "pyode_scrum": bench_pyode(d.pyode_steps, cpu, 0.0)}
         elif part == "env":
             results["env"] = bench_env(d.env_steps, cpu)
         elif part == "memory":
@@ -580,6 +610,7 @@ def main(argv: list[str] | None = None) -> int:
         elif part == "evaluate":
             results["evaluate"] = bench_evaluate(d)
     results["machine"]["load_average_end"] = [_r(x) for x in os.getloadavg()]
+    results["machine"]["cpu_pressure_some_avg60_percent_end"] = cpu_pressure()
     results["wall_seconds_total"] = _r(time.perf_counter() - started, 1)
     (args.out / "lockstep.json").write_text(json.dumps(results, indent=2) + "\n")
     plot(results, args.out / "lockstep.png")
