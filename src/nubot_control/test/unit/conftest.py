@@ -82,12 +82,7 @@ class InProcessMatch:
                     step = agent.step(t)
                     self.steps[name], self.outputs[name] = step, step.report
                     self._packets[name] = (step.packet, step.report)
-                    c = step.command
-                    self.sim.command_velocity(name, c.velocity.vx, c.velocity.vy, c.velocity.w)
-                    if c.ball_handle is not None:
-                        self.sim.ball_handle(name, c.ball_handle)
-                    if c.kick is not None:
-                        self.sim.shoot(name, float(c.kick.strength), int(c.kick.kind))
+                    self.sim.execute(name, step.command)
             self.goals += [e for e in self.sim.step() if isinstance(e, GoalScored)]
 
 

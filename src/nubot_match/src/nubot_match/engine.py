@@ -251,15 +251,9 @@ class LockstepMatch:
                 listener.robot_step(t, name, step)
 
     def _apply(self, name: str, command: RobotCommand, out: MatchStep) -> None:
-        sim = self._require_sim()
-        v = command.velocity
-        sim.command_velocity(name, v.vx, v.vy, v.w)
-        if command.ball_handle is not None:
-            sim.ball_handle(name, command.ball_handle)
-        if command.kick is not None:
-            _done, event = sim.shoot(name, float(command.kick.strength), int(command.kick.kind))
-            if event is not None:
-                self._note_events([event], out)
+        _done, event = self._require_sim().execute(name, command)
+        if event is not None:
+            self._note_events([event], out)
 
     def _note_events(self, events: list[SimEvent], out: MatchStep) -> None:
         for event in events:

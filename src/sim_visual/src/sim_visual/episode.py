@@ -46,16 +46,11 @@ def run_demo_episode(sim: Simulator, robot: str, params: DemoParams, duration: f
             now = replace(frame, stamp=sim.time, robot=replace(frame.robot, holding=sim.holder == robot))
             command, transitions = demo.step(now)
             log.transitions += [(sim.time, a.value, b.value) for a, b in transitions]
-            v = command.velocity
-            sim.command_velocity(robot, v.vx, v.vy, v.w)
-            if command.ball_handle is not None:
-                sim.ball_handle(robot, command.ball_handle)
-            if command.kick is not None:
-                done, event = sim.shoot(robot, float(command.kick.strength), int(command.kick.kind))
-                if event is not None:
-                    log.events.append(event)
-                if not done:
-                    demo.kick_failed()
+            done, event = sim.execute(robot, command)
+            if event is not None:
+                log.events.append(event)
+            if not done:
+                demo.kick_failed()
             if stop_at_home and demo.state == DemoState.HOME:
                 break
         log.events += sim.step()

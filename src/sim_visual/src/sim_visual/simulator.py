@@ -17,7 +17,7 @@ from dataclasses import astuple, dataclass, replace
 
 import numpy as np
 
-from nubot_common.commands import BodyVelocity, KickKind
+from nubot_common.commands import BodyVelocity, KickKind, RobotCommand
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate
 from nubot_common.naming import parse_robot_name
@@ -286,6 +286,18 @@ class Simulator:
         self.world.set_ball_state(kicked)
         self.last_touch = name
         return True, BallKicked(self.time, name, kind, velocity, (kicked.x, kicked.y, kicked.z))
+
+    def execute(self, name: str, command: RobotCommand) -> tuple[bool, BallKicked | None]:
+        """One control cycle's calls of the robot interface, as a control node makes them: the velocity
+        (VelCmd), a BallHandle request if there is one, a Shoot if there is one. Return whether the shot was
+        done ((True, None) without one) and the kick it made."""
+        v = command.velocity
+        self.command_velocity(name, v.vx, v.vy, v.w)
+        if command.ball_handle is not None:
+            self.ball_handle(name, command.ball_handle)
+        if command.kick is None:
+            return True, None
+        return self.shoot(name, float(command.kick.strength), int(command.kick.kind))
 
     def update_params(self, plugin: PluginParams | None = None, noise: NoiseParams | None = None) -> None:
         if plugin is not None:

@@ -5,6 +5,7 @@ from dataclasses import astuple
 
 import pytest
 
+from nubot_common.commands import BodyVelocity, KickCommand, KickKind, RobotCommand
 from sim_visual import SimVisualError
 from sim_visual.simulator import BallCaptured, BallKicked, GoalScored
 from sim_visual.world import BallState, RobotState
@@ -90,6 +91,19 @@ def test_shoot_without_the_ball_does_nothing(make_sim):
     assert sim.world.ball_state().vx == 0.0
     with pytest.raises(SimVisualError, match="ShootPos must be -1"):
         sim.shoot("nubot1", 5, 0)
+
+
+def test_one_control_cycle_s_commands_go_through_the_interface_in_order(make_sim):
+    """execute: the velocity, then BallHandle, then Shoot: a robot asking for a near ball and kicking it in one
+    cycle kicks it; without the ball the shot is not done; without a kick there is nothing to report."""
+    sim = make_sim(ball=(0.45, 0.0))
+    assert sim.execute("nubot1", RobotCommand(BodyVelocity(0.5, 0.0, 0.0))) == (True, None)
+    assert sim.plugins["nubot1"].command == BodyVelocity(0.5, 0.0, 0.0)
+    done, event = sim.execute("nubot1", RobotCommand(BodyVelocity(), True, 1, KickCommand(KickKind.GROUND, 4)))
+    assert done and isinstance(event, BallKicked) and event.robot == "nubot1"
+    far = make_sim(ball=(3.0, 0.0))
+    assert far.execute("nubot1", RobotCommand(BodyVelocity(), True, 1, KickCommand(KickKind.GROUND, 4))) == \
+        (False, None)
 
 
 def test_ground_pass_starts_at_the_commanded_speed_and_rolls_to_a_stop(make_sim, run):
