@@ -36,6 +36,10 @@ def evaluate(*args, timeout=300):
                           timeout=timeout)
 
 
+def astuple_tail(r):
+    return (r.home_attacks, r.home, r.away, r.sim_seconds, r.wall_seconds, r.rss_mib)
+
+
 def result(index, home_goals, away_goals):
     figures = dict.fromkeys(("passes_completed", "possession", "shots", "collisions"), 0.0)
     return MatchResult(index, index, 1, {**figures, "goals": home_goals}, {**figures, "goals": away_goals}, 1, 1, 1)
@@ -58,6 +62,16 @@ def test_the_statistics_give_intervals_and_a_verdict_that_says_who_is_better():
     assert share.mean == 0.0 and share.low == 0.0 and 0.2 < share.high < 0.35  # Wilson, not 0 +- 0
 
 
+def test_the_two_matches_of_a_seed_are_one_unit_of_the_intervals():
+    """Mirror pairs (a team against its twin, each way round) give +d and -d: two seeds are two units, not four."""
+    pairs = [result(0, 3, 0), result(0, 0, 3), result(1, 1, 0), result(1, 0, 1)]
+    pairs = [MatchResult(r.index, seed, *astuple_tail(r)) for r, seed in zip(pairs, (0, 0, 1, 1))]
+    d = summarise(pairs).goal_difference
+    assert (d.mean, d.low, d.high) == (0.0, 0.0, 0.0)  # each seed's pair averages to 0 exactly
+    alone = summarise([result(i, g, a) for i, (g, a) in enumerate([(3, 0), (0, 3), (1, 0), (0, 1)])])
+    assert alone.goal_difference.high > 1.0  # as four independent matches the interval is wide
+
+
 def test_seeds_repeat_in_pairs_with_the_sides_swapped():
     jobs = jobs_for("a.yaml", "b.yaml", 5, 60.0, seed=7)
     assert [(j.seed, j.swapped) for j in jobs] == [(7, False), (7, True), (8, False), (8, True), (9, False)]
@@ -70,7 +84,7 @@ def test_an_evaluation_on_two_cores_prints_its_table_and_verdict_and_keeps_its_f
                     "--jobs", 2, "--out", out)
     assert done.returncode == 0, done.stderr[-2000:]
     assert "| goals |" in done.stdout and "95 % CI" in done.stdout
-    assert "NUBOT" in done.stdout and ("better than" in done.stdout or "no clear difference" in done.stdout)
+    assert "NUBOT - RIVAL: " in done.stdout and "play at least 4 matches (two seeds) for a verdict" in done.stdout
     assert "match/s" in done.stderr or "s/match" in done.stderr  # the progress bar with its rate and ETA
     data = json.loads((out / "results.json").read_text())
     assert data["finished"] == 2 and not data["interrupted"] and data["failures"] == []

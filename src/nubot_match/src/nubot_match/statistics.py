@@ -5,15 +5,16 @@ share, shots, collisions, each from HOME's point of view whatever end it played 
 Provides: ``summarise`` -> ``Summary`` (rows of mean and 95 % CI per team and figure; wins, draws and
 losses as shares with Wilson intervals; the goal difference per match with a Student-t interval),
 ``table_text`` (a Markdown table), ``verdict`` (one line) and ``plot_goal_difference`` (a PNG).
-Confidence intervals: means use the t distribution over the per-match values (n - 1 degrees of
-freedom); shares use the Wilson score interval (``scipy.stats.binomtest``); with one match an
-interval is unknown (NaN) and said so.
+Confidence intervals: means use the t distribution over the per-seed means (the matches of one seed,
+one each way round, are a pair and one independent unit: n seeds, n - 1 degrees of freedom); wins,
+draws and losses use the Wilson score interval per match (``scipy.stats.binomtest``); with one unit
+an interval is unknown (NaN) and said so.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -50,7 +51,7 @@ class Interval:
 
     def text(self, digits: int = 2) -> str:
         if math.isnan(self.low):
-            return f"{self.mean:.{digits}f} (CI unknown: one match)"
+            return f"{self.mean:.{digits}f} (CI unknown: one seed)"
         return f"{self.mean:.{digits}f} [{self.low:.{digits}f}, {self.high:.{digits}f}]"
 
 
@@ -93,20 +94,31 @@ def share_interval(count: int, total: int) -> Interval:
     return Interval(count / total, float(ci.low), float(ci.high))
 
 
+def per_seed(results: Sequence[MatchResult], value: Callable[[MatchResult], float]) -> list[float]:
+    """``value`` averaged over the matches of each seed: the independent units. The two matches of a seed (one
+    each way round) are a pair; with identical teams they mirror each other, so counting them as two independent
+    matches would halve nothing but the interval."""
+    by_seed: dict[int, list[float]] = {}
+    for r in results:
+        by_seed.setdefault(r.seed, []).append(value(r))
+    return [sum(v) / len(v) for v in by_seed.values()]
+
+
 def summarise(results: Sequence[MatchResult], home: str = "HOME", away: str = "AWAY") -> Summary:
-    rows = {f: (mean_interval([r.home[f] for r in results]), mean_interval([r.away[f] for r in results]))
-            for f in FIGURES}
+    rows = {f: (mean_interval(per_seed(results, lambda r, f=f: r.home[f])),
+                mean_interval(per_seed(results, lambda r, f=f: r.away[f]))) for f in FIGURES}
     diff = [r.home["goals"] - r.away["goals"] for r in results]
     n = len(results)
     wins, draws = sum(d > 0 for d in diff), sum(d == 0 for d in diff)
     outcomes = {"wins": (wins, share_interval(wins, n)), "draws": (draws, share_interval(draws, n)),
                 "losses": (n - wins - draws, share_interval(n - wins - draws, n))}
-    return Summary(n, home, away, rows, outcomes, mean_interval(diff))
+    return Summary(n, home, away, rows, outcomes,
+                   mean_interval(per_seed(results, lambda r: r.home["goals"] - r.away["goals"])))
 
 
 def table_text(s: Summary) -> str:
     """A Markdown table: per match, mean and 95 % CI of each figure for both teams; HOME's outcomes."""
-    lines = [f"| per match ({s.matches} matches, 95 % CI) | {s.home} | {s.away} |", "| --- | --- | --- |"]
+    lines = [f"| per match ({s.matches} matches, 95 % CI over seeds) | {s.home} | {s.away} |", "| --- | --- | --- |"]
     for key, (n, share) in s.outcomes.items():
         other = {"wins": "losses", "losses": "wins", "draws": "draws"}[key]
         m, o = s.outcomes[other]
@@ -124,7 +136,8 @@ def verdict(s: Summary) -> str:
     if s.matches == 0:
         return "no match finished: no verdict"
     if math.isnan(d.low):
-        return f"{s.home} - {s.away}: {d.mean:+.1f} goals in one match; play more matches for a verdict"
+        return (f"{s.home} - {s.away}: {d.mean:+.1f} goals per match over one seed; play at least 4 matches "
+                "(two seeds) for a verdict")
     ci = f"95 % CI [{d.low:+.1f}, {d.high:+.1f}]"
     if d.low > 0:
         return f"{s.home} better than {s.away} by {d.mean:+.1f} goals per match, {ci}"
