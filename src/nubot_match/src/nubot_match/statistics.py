@@ -104,9 +104,13 @@ def per_seed(results: Sequence[MatchResult], value: Callable[[MatchResult], floa
     return [sum(v) / len(v) for v in by_seed.values()]
 
 
+def _figure(results: Sequence[MatchResult], side: str, figure: str) -> list[float]:
+    return per_seed(results, lambda r: getattr(r, side)[figure])
+
+
 def summarise(results: Sequence[MatchResult], home: str = "HOME", away: str = "AWAY") -> Summary:
-    rows = {f: (mean_interval(per_seed(results, lambda r, f=f: r.home[f])),
-                mean_interval(per_seed(results, lambda r, f=f: r.away[f]))) for f in FIGURES}
+    rows = {f: (mean_interval(_figure(results, "home", f)), mean_interval(_figure(results, "away", f)))
+            for f in FIGURES}
     diff = [r.home["goals"] - r.away["goals"] for r in results]
     n = len(results)
     wins, draws = sum(d > 0 for d in diff), sum(d == 0 for d in diff)
