@@ -31,17 +31,17 @@ from nubot_control.params import TRACKERS, ControlParams
 from nubot_control.plugins import resolve_spec, strategy_class
 from nubot_control.team_config import TeamConfig
 from nubot_match import NubotMatchError
+from nubot_tools.workspace import TEAMS, WORKSPACE
 from sim_visual.params import SimInterfaceParams, SimNodeParams
 from world_model.params import WorldModelParams
 
-SRC = Path(__file__).resolve().parents[3]  # the workspace's src/
+SRC = WORKSPACE / "src"
 CONFIG = {
     "sim": SRC / "sim_visual" / "config" / "sim_visual.yaml",
     "world_model": SRC / "world_model" / "config" / "world_model.yaml",
     "control": SRC / "nubot_control" / "config" / "nubot_control.yaml",
     "referee": SRC / "coach4sim" / "config" / "referee.yaml",
 }
-TEAMS = SRC / "nubot_control" / "config" / "teams"
 REFEREE_NODE_KEYS = ("teams", "auto", "republish_period", "state_period", "sim_namespace")  # the node's, not the rules'
 
 

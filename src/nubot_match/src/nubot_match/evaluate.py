@@ -32,13 +32,13 @@ from pathlib import Path
 
 from nubot_common.naming import team_of
 from nubot_match import NubotMatchError
-from nubot_match.config import TEAMS, MatchConfig, match_config
+from nubot_match.config import MatchConfig, match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.record import MatchLogRecorder
 from nubot_match.statistics import MatchResult, plot_goal_difference, summarise, table_text, verdict
 from nubot_tools.match_analysis import MatchSummary, analyse
+from nubot_tools.workspace import TEAMS, WORKSPACE
 
-WORKSPACE = Path(__file__).resolve().parents[4]
 MAX_MATCHES = 100_000
 
 

@@ -51,10 +51,10 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from nubot_match.config import TEAMS, match_config
+from nubot_match.config import match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.record import MatchListener
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import TEAMS, WORKSPACE
 
 PARTS = ("lockstep", "recording", "physics", "env", "memory", "evaluate")
 TRACKERS = ("mpc", "baseline")
