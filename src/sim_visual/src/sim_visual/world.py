@@ -239,8 +239,7 @@ class PhysicsWorld:
         if self._ball_in_net:
             self._absorb_in_net()
         self._apply_rolling_resistance(dt)
-        self._robot_states.clear()
-        self._ball_state = None
+        self._ball_state = None  # the robots' states are the pinning's
         return self._touched
 
     def _near(self, _args: object, geom_a: ode.GeomObject, geom_b: ode.GeomObject) -> None:
@@ -284,17 +283,26 @@ class PhysicsWorld:
         return robot.friction, 0.0  # robot against robot, post, net or wall
 
     def _pin_robots_to_plane(self) -> None:
-        for body, _ in self._robots.values():
-            x, y, _z = body.getPosition()
-            vx, vy, _vz = body.getLinearVel()
-            # quaternion_to_yaw and yaw_to_quaternion written out (ODE's order w, x, y, z): this runs for every
-            # robot every step
+        """Keep every robot upright on the carpet (contacts tip and lift it a little) and cache its state.
+
+        Runs for every robot every step: only what moved off the plane is reset, and quaternion_to_yaw and
+        yaw_to_quaternion are written out (ODE's order w, x, y, z).
+        """
+        states = self._robot_states
+        for name, (body, _) in self._robots.items():
+            x, y, z = body.getPosition()
+            vx, vy, vz = body.getLinearVel()
+            wx, wy, wz = body.getAngularVel()
             qw, qx, qy, qz = body.getQuaternion()
             yaw = math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-            body.setPosition((x, y, 0.0))
-            body.setQuaternion((math.cos(yaw / 2.0), 0.0, 0.0, math.sin(yaw / 2.0)))
-            body.setLinearVel((vx, vy, 0.0))
-            body.setAngularVel((0.0, 0.0, body.getAngularVel()[2]))
+            if z != 0.0 or qx != 0.0 or qy != 0.0:
+                body.setPosition((x, y, 0.0))
+                body.setQuaternion((math.cos(yaw / 2.0), 0.0, 0.0, math.sin(yaw / 2.0)))
+            if vz != 0.0:
+                body.setLinearVel((vx, vy, 0.0))
+            if wx != 0.0 or wy != 0.0:
+                body.setAngularVel((0.0, 0.0, wz))
+            states[name] = RobotState(x, y, yaw, vx, vy, wz)
 
     def _absorb_in_net(self) -> None:
         """A net gives way and swallows a shot: each step of contact keeps net_restitution of the horizontal motion.
