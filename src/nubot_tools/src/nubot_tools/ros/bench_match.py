@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import statistics
 import subprocess
 import sys
@@ -24,6 +25,7 @@ PLAY = ("goals", "passes_completed", "passes_tried", "shots", "running_share", "
         "collisions", "ball_reach_median_s", "ball_reach_mean_s")
 PERFORMANCE = ("achieved_real_time_factor", "control_rate_min_hz", "missed_cycle_share", "cpu_cores_total",
                "rss_mib_total")
+TRAFFIC = ("messages_per_second", "deliveries_per_second")
 
 
 def play_match(tracker: str, seed: int, half_seconds: float, out: Path) -> dict:
@@ -35,6 +37,7 @@ def play_match(tracker: str, seed: int, half_seconds: float, out: Path) -> dict:
     latest = max(folder.iterdir(), key=lambda p: p.stat().st_mtime)
     report = json.loads((latest / "report.json").read_text())
     perf = json.loads(perf_file.read_text())
+    perf["messages"] = message_traffic(latest / "match.bag", perf.pop("subscribers", {}))
     return {
         "tracker": tracker, "seed": seed, "status": status, "folder": str(latest), "performance": perf,
         "goals": sum(report["score"].values()),
@@ -47,6 +50,28 @@ def play_match(tracker: str, seed: int, half_seconds: float, out: Path) -> dict:
         "ball_reach_median_s": report["ball_reach"]["median_s"],
         "ball_reach_mean_s": report["ball_reach"]["mean_s"],
     }
+
+
+def message_traffic(bag_path: Path, subscribers: dict[str, int]) -> dict:
+    """Messages per second (from the bag's index) and deliveries per second (each message times the nodes that
+    subscribe to its topic, the recorder included), the ten largest streams with robot and team names folded."""
+    import rosbag
+
+    with rosbag.Bag(str(bag_path)) as bag:
+        seconds = max(bag.get_end_time() - bag.get_start_time(), 1e-9)
+        counts = {topic: info.message_count for topic, info in bag.get_type_and_topic_info().topics.items()}
+    streams: dict[str, dict[str, float]] = {}
+    for topic, count in counts.items():
+        kind = re.sub(r"^/(nubot|rival)\d+/", "/<robot>/", topic)
+        kind = re.sub(r"^/(nubot|rival)/", "/<team>/", kind)
+        stream = streams.setdefault(kind, {"messages_per_second": 0.0, "deliveries_per_second": 0.0})
+        stream["messages_per_second"] += count / seconds
+        stream["deliveries_per_second"] += count / seconds * subscribers.get(topic, 0)
+    top = sorted(streams.items(), key=lambda kv: -kv[1]["deliveries_per_second"])[:10]
+    return {"seconds": round(seconds, 1),
+            "messages_per_second": round(sum(s["messages_per_second"] for s in streams.values()), 1),
+            "deliveries_per_second": round(sum(s["deliveries_per_second"] for s in streams.values()), 1),
+            "largest": {k: {n: round(v, 1) for n, v in s.items()} for k, s in top}}
 
 
 def mean_of(matches: list[dict], key: str, performance: bool = False) -> float | None:
@@ -72,6 +97,8 @@ def main(argv: list[str] | None = None) -> int:
             matches.append(play_match(tracker, seed, args.half_seconds, args.out))
         summary = {k: mean_of(matches, k) for k in PLAY}
         summary.update({k: mean_of(matches, k, performance=True) for k in PERFORMANCE})
+        summary.update({k: round(statistics.mean(m["performance"]["messages"][k] for m in matches), 1)
+                        for k in TRAFFIC})
         by_tracker[tracker] = {"matches": matches, "mean": summary}
         print(f"[bench] {tracker}: {json.dumps(summary)}", flush=True)
     result = {"half_seconds": args.half_seconds, "seeds": args.seeds, "by_tracker": by_tracker}

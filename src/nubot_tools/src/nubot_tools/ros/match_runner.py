@@ -77,6 +77,7 @@ class PerfMonitor:
         self.counts = dict.fromkeys(robots, 0)
         self.samples: list[dict[str, float]] = []
         self.start: tuple[float, float] | None = None
+        self.subscribers: dict[str, int] = {}  # topic -> subscribing nodes, once every node is up
         self._known: dict[int, object] = {}  # psutil measures CPU between two calls on the same Process object
         self.subs = [rospy.Subscriber(f"/{r}/nubotcontrol/strategy", StrategyInfo,
                                       lambda _m, r=r: self._count(r), queue_size=50) for r in robots]
@@ -105,6 +106,7 @@ class PerfMonitor:
                 pass
         self.counts = dict.fromkeys(self.counts, 0)
         self.start = (time.monotonic(), clock)
+        self.subscribers = subscriber_counts()
 
     def sample(self) -> None:
         kinds: dict[str, float] = {}
@@ -140,7 +142,16 @@ class PerfMonitor:
             "cpu_cores_by_kind": cpu, "cpu_cores_total": round(sum(cpu.values()), 2),
             "rss_mib_total": round(max(s["rss_mib"] for s in samples), 1),
             "cpus": os.cpu_count(),
+            "subscribers": self.subscribers,
         }
+
+
+def subscriber_counts() -> dict[str, int]:
+    """How many nodes subscribe to each topic (the master's system state): each message costs every one of them."""
+    import rosgraph
+
+    _publishers, subscribers, _services = rosgraph.Master("/match_runner").getSystemState()
+    return {topic: len(nodes) for topic, nodes in subscribers}
 
 
 CUT_SHORT_STATUS = 3  # exit status of a match that did not reach full time
