@@ -2,14 +2,15 @@
 
 ``publisher`` makes a synchronous rospy publisher. rospy's default (``queue_size=N``) gives every subscriber
 connection its own dispatch thread: each message then costs a lock, a condition notify, a ``sleep(0)`` and a
-thread switch per connection. In a 5 vs 5 match that is about 20,000 thread wake-ups a second (the simulator's
-/clock alone goes to some 25 nodes at 100 Hz), and on 2 cores they cost the control loops about a third of
-their cycles. A synchronous publisher writes to each connection's socket from the publishing thread.
+thread switch per connection. A 5 vs 5 match delivers about 7,400 messages a second (``scripts/bench_match.py``;
+the simulator's /clock alone goes to 28 subscribers at about 88 Hz), and on 2 cores those thread switches cost the
+control loops about a third of their cycles. A synchronous publisher writes to each connection's socket from the
+publishing thread.
 
 What that changes for a user: a subscriber that is alive but does not read (stopped in a debugger, SIGSTOP)
-is buffered by the kernel (megabytes on loopback, a minute or more of any of our topics); past that its
-publishers wait for it, as a sim-time graph waits for a paused simulator. A subscriber that dies closes its
-connection and costs nothing.
+is buffered by the kernel (some 27,000 messages, about 4 MB, per connection on loopback: minutes at a match's
+rates); past that its publishers wait for it until it reads again. A subscriber that dies closes its connection
+and costs nothing.
 """
 
 from __future__ import annotations
