@@ -8,9 +8,9 @@ control loops about a third of their cycles. A synchronous publisher writes to e
 publishing thread.
 
 What that changes for a user: a subscriber that is alive but does not read (stopped in a debugger, SIGSTOP)
-is buffered by the kernel (some 27,000 messages, about 4 MB, per connection on loopback: minutes at a match's
-rates); past that its publishers wait for it until it reads again. A subscriber that dies closes its connection
-and costs nothing.
+is buffered by the kernel (about 4 MB per connection on loopback: some 30 s of model states at 100 Hz, two
+minutes of WorldModelInfo at 30 Hz); past that its publishers wait for it until it reads again. A subscriber that
+dies closes its connection and costs nothing.
 """
 
 from __future__ import annotations
