@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import pytest
 
 from nubot_common.match_mode import MatchMode
-from nubot_common.naming import parse_robot_name
+from nubot_common.naming import parse_robot_name, team_of
 from nubot_common.percepts import RobotView
 from nubot_common.team_play import StrategyReport
 from nubot_common.world_description import WorldDescription
@@ -27,10 +27,7 @@ VISION_PERIOD = 1.0 / 30.0  # [s]
 CONTROL_PERIOD = 1.0 / 33.0  # [s]
 
 
-@functools.cache
-def _team_of(name: str) -> str:
-    """A robot's team (parsed once per name: the team link asks for every pair of robots every cycle)."""
-    return parse_robot_name(name).team
+_team_of = functools.cache(team_of)  # parsed once per name: the team link asks for every pair of robots every cycle
 
 
 @dataclass

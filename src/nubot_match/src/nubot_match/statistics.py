@@ -108,16 +108,20 @@ def _figure(results: Sequence[MatchResult], side: str, figure: str) -> list[floa
     return per_seed(results, lambda r: getattr(r, side)[figure])
 
 
+def _goal_difference(r: MatchResult) -> float:
+    return r.home["goals"] - r.away["goals"]
+
+
 def summarise(results: Sequence[MatchResult], home: str = "HOME", away: str = "AWAY") -> Summary:
     rows = {f: (mean_interval(_figure(results, "home", f)), mean_interval(_figure(results, "away", f)))
             for f in FIGURES}
-    diff = [r.home["goals"] - r.away["goals"] for r in results]
+    diff = [_goal_difference(r) for r in results]
     n = len(results)
     wins, draws = sum(d > 0 for d in diff), sum(d == 0 for d in diff)
     outcomes = {"wins": (wins, share_interval(wins, n)), "draws": (draws, share_interval(draws, n)),
                 "losses": (n - wins - draws, share_interval(n - wins - draws, n))}
     return Summary(n, home, away, rows, outcomes,
-                   mean_interval(per_seed(results, lambda r: r.home["goals"] - r.away["goals"])))
+                   mean_interval(per_seed(results, _goal_difference)))
 
 
 def table_text(s: Summary) -> str:
