@@ -331,8 +331,9 @@ def main(argv: list[str] | None = None) -> int:
             limit = 120.0 + 3.0 * game_seconds / max(args.real_time_factor, 0.05)
             while True:
                 s = watcher.state
-                if s is not None and s.half >= args.halves and s.game_time >= args.half_seconds - 0.05 \
-                        and not s.running:
+                # the referee ends a half in the update that takes its clock to the half's length, so a
+                # stoppage just before the end (ball out at 19.97 s of 20) does not count as full time
+                if s is not None and s.half >= args.halves and s.game_time >= args.half_seconds and not s.running:
                     break
                 if run.check(simulator=sim, referee=referee):
                     break
