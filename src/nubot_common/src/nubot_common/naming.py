@@ -3,7 +3,8 @@
 Provides: ``RobotName`` (team, agent_id; ``str()`` gives the model name back), ``parse_robot_name``
 (raises ``NubotCommonError`` naming the bad name), ``team_of`` (a model name's team, or the
 name itself for a model that is no robot, e.g. ``football``), ``is_robot_name``,
-``check_team_prefix`` and ``RobotNodeParams`` (``~robot`` and ``~agent_id`` of a per-robot node;
+``check_team_prefix``, ``RobotSelection`` (``all``, nothing or a list of names) and
+``RobotNodeParams`` (``~robot`` and ``~agent_id`` of a per-robot node;
 a node with parameters of its own subclasses it). The model name prefixes every topic and service
 of its robot in simulation (``/rival3/nubotcontrol/velcmd``); the team prefix names the team's
 namespace (``/rival/receive_from_coach``).
@@ -83,3 +84,32 @@ def is_robot_name(name: str) -> bool:
 def team_of(name: str) -> str:
     """The team of a robot's model name (``nubot3`` -> ``nubot``); any other name is returned unchanged."""
     return parse_robot_name(name).team if is_robot_name(name) else name
+
+
+@dataclass(frozen=True)
+class RobotSelection:
+    """Some robots by name, written ``""`` (none), ``all`` or ``nubot1,rival2`` (e.g. the robots that see
+    through the simulated camera: ``make match VISION=...``)."""
+
+    names: frozenset[str] = frozenset()
+    every: bool = False  # ``all``: every robot, whatever its name
+
+    @classmethod
+    def parse(cls, text: str) -> RobotSelection:
+        """Read a selection; a word that is no robot name raises ``NubotCommonError`` naming it."""
+        if not isinstance(text, str):
+            raise NubotCommonError(f"a robot selection is all, nothing or names like nubot1,rival2; got {text!r}")
+        words = [w.strip() for w in text.replace(" ", ",").split(",") if w.strip()]
+        if words == ["all"]:
+            return cls(every=True)
+        for word in words:
+            if not is_robot_name(word):
+                raise NubotCommonError(f"robot selection {text!r}: {word!r} is not a robot name (e.g. nubot2) "
+                                       "nor all")
+        return cls(frozenset(words))
+
+    def __contains__(self, name: object) -> bool:
+        return self.every or name in self.names
+
+    def __str__(self) -> str:
+        return "all" if self.every else ",".join(sorted(self.names))

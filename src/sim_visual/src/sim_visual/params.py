@@ -24,10 +24,11 @@ from types import MappingProxyType
 
 from nubot_common import NubotCommonError
 from nubot_common.field import FieldGeometry
-from nubot_common.naming import check_team_prefix, parse_robot_name
+from nubot_common.naming import RobotSelection, check_team_prefix, parse_robot_name
 from nubot_common.params import require_non_negative, require_positive
 from nubot_common.world_description import BallBody, RobotBody, WorldDescription
 from sim_visual import SimVisualError
+from sim_visual.sensors import SensorParams
 
 MAX_STEP_SIZE = 0.007  # [s], chapter Table 2
 MAX_GRAVITY = 50.0  # [m/s^2], about 5 g: stronger gravity is no soccer field
@@ -175,6 +176,7 @@ class SimConfig:
     robots: tuple[RobotSpawn, ...] = ()
     ball_start: tuple[float, float] = (0.0, 0.0)  # [m]
     seed: int = 0
+    sensors: SensorParams = dc_field(default_factory=SensorParams)  # camera, odometry, inertial heading
 
     def __post_init__(self) -> None:
         names = [r.name for r in self.robots]
@@ -212,7 +214,11 @@ class SimNodeParams:
     sim: SimConfig = dc_field(default_factory=SimConfig)
     real_time_factor: float = 1.0  # sim seconds per wall second; 0 runs as fast as possible
     model_states_rate: float = 100.0  # /sim_visual/model_states [Hz, sim time]
-    vision_rate: float = 30.0  # /<robot>/omnivision/OmniVisionInfo [Hz, sim time]
+    vision_rate: float = 30.0  # /<robot>/omnivision/OmniVisionInfo, or camera image [Hz, sim time]
+    vision: str = ""  # robots seeing through the camera (RobotSelection: all, or names such as nubot1,rival2)
+    odometry_rate: float = 50.0  # their /<robot>/nubotdriver/odoinfo [Hz, sim time]
+    imu_rate: float = 50.0  # their /<robot>/imu/data [Hz, sim time]
+    camera_labels: bool = False  # also publish each image's colour classes (/<robot>/camera/labels)
     clock_rate: float = 1000.0  # /clock at most this often [Hz, sim time]; at least once a step
     gui: bool = False  # no viewer exists yet: true only warns and runs headless
 
@@ -220,7 +226,15 @@ class SimNodeParams:
         require_non_negative(self, "real_time_factor")
         if not self.real_time_factor <= REAL_TIME_FACTOR_MAX:
             raise ValueError(f"real_time_factor must be at most {REAL_TIME_FACTOR_MAX:g}, got {self.real_time_factor}")
-        require_positive(self, "model_states_rate", "vision_rate", "clock_rate")
+        require_positive(self, "model_states_rate", "vision_rate", "clock_rate", "odometry_rate", "imu_rate")
+        try:
+            RobotSelection.parse(self.vision)
+        except NubotCommonError as exc:
+            raise ValueError(f"vision: {exc}") from None
+
+    @property
+    def vision_robots(self) -> RobotSelection:
+        return RobotSelection.parse(self.vision)
 
 
 @dataclass(frozen=True)

@@ -3,9 +3,11 @@
 Requires: ``SimConfig``. Provides: ``Simulator`` with the robot interface of the
 chapter (``command_velocity``, ``ball_handle``, ``shoot``), Gazebo-like world
 services (``model_states``, ``set_model_state``, ``reset``, ``spawn_robot``,
-``delete_robot``), ``switch_ends`` (half time), ``observe`` (noisy omni-vision frame of one robot) and ``step``
-which returns the events of that step (goals, kicks, captures). All randomness
-comes from one ``numpy.random.Generator`` seeded by ``SimConfig.seed``.
+``delete_robot``), ``switch_ends`` (half time), ``observe`` (noisy omni-vision frame of one robot; its noise-free
+truth: ``observe_truth``), the robot's own sensors for omni_vision (``camera_frame``, ``odometry``,
+``inertial_heading``) and ``step`` which returns the events of that step (goals, kicks, captures). All
+randomness comes from ``SimConfig.seed``: the percepts' noise from one ``numpy.random.Generator``, the
+sensors' from one of their own derived from the same seed.
 Every state from outside is checked before it reaches ODE (finite, inside the arena, speeds within
 the limits of ``sim_visual.params``); a refusal raises ``SimVisualError`` and changes nothing.
 """
@@ -24,6 +26,8 @@ from nubot_common.naming import parse_robot_name
 from nubot_common.percepts import RobotView
 from nubot_common.team_frame import TeamFrame
 from sim_visual import SimVisualError
+from sim_visual.odometry import ImuReading, OdometryReading
+from sim_visual.omni_camera import RenderedFrame
 from sim_visual.params import (
     MAX_BALL_HEIGHT,
     MAX_BALL_SPEED,
@@ -43,8 +47,10 @@ from sim_visual.rules import (
     lob_velocity,
 )
 from sim_visual.sensing import RobotFlags, observe
+from sim_visual.sensors import RobotSensors
 from sim_visual.world import BallState, PhysicsWorld, RobotState
 
+_NO_NOISE = NoiseParams(position_std=0.0, velocity_std=0.0, self_position_std=0.0, heading_std=0.0)
 _KICK_FLAG_TIME = 0.2  # RobotInfo.iskick stays true this long after a kick [s]
 _STUCK_MIN_COMMAND = 0.3  # commands slower than this never count as stuck [m/s]
 _STUCK_FILTER_TIME = 0.2  # time constant of the ground-speed estimate [s]
@@ -115,6 +121,7 @@ class Simulator:
         self.plugin_params: PluginParams = config.plugin
         self.noise: NoiseParams = config.noise
         self.rng = np.random.default_rng(config.seed)
+        self.sensors = RobotSensors(config.world, config.sensors, config.seed)
         self.time = 0.0
         self.steps = 0
         self.world = PhysicsWorld(config.field, config.physics, config.robot, config.ball)
@@ -147,6 +154,7 @@ class Simulator:
             self._release()
         self.world.remove_robot(name)
         del self.plugins[name]
+        self.sensors.forget(name)
 
     def _plugin(self, name: str) -> RobotPlugin:
         try:
@@ -172,6 +180,7 @@ class Simulator:
             self.plugins[name] = RobotPlugin(s, plugin.agent_id)
         self._place_ball_start()
         self.last_touch = self._reported_touch = ""
+        self.sensors.reset()
 
     def switch_ends(self) -> None:
         """Half time: every robot attacks the other goal and is turned half round the centre spot, at rest.
@@ -308,6 +317,14 @@ class Simulator:
     # --- perception -------------------------------------------------------------------------
     def observe(self, name: str) -> RobotView:
         """What robot ``name``'s omni vision gives now: its percepts, in its team frame, with noise."""
+        return self._observe(name, self.noise, self.rng)
+
+    def observe_truth(self, name: str) -> RobotView:
+        """Robot ``name``'s percepts without noise or range limit (the truth a vision is measured against);
+        draws nothing from the simulator's generator."""
+        return self._observe(name, _NO_NOISE, np.random.default_rng(0))
+
+    def _observe(self, name: str, noise: NoiseParams, rng: np.random.Generator) -> RobotView:
         plugin = self._plugin(name)
         me = self.world.robot_state(name)
         others = [self.world.robot_state(n) for n in self.plugins if n != name]
@@ -315,7 +332,26 @@ class Simulator:
         flags = RobotFlags(field.is_inside(me.x, me.y, margin), plugin.stuck, self.holder == name,
                            self.time - plugin.kicked_at < _KICK_FLAG_TIME)
         return observe(self.time, me, TeamFrame(plugin.spawn.attack), plugin.agent_id, flags,
-                       self.world.ball_state(), others, self.noise, self.rng)
+                       self.world.ball_state(), others, noise, rng)
+
+    def camera_frame(self, name: str, labels: bool = False) -> RenderedFrame:
+        """Robot ``name``'s omni camera image now (and each pixel's colour class with ``labels``)."""
+        self._plugin(name)
+        others = [self.world.robot_state(n) for n in self.plugins if n != name]
+        return self.sensors.camera(self.time, self.world.robot_state(name), self.world.ball_state(), others, labels)
+
+    def odometry(self, name: str, dt: float) -> OdometryReading:
+        """Robot ``name``'s wheel odometry now, ``dt`` [s] after its previous reading."""
+        plugin = self._plugin(name)
+        return self.sensors.odometry(name, self.world.robot_state(name), dt, plugin.stuck)
+
+    def inertial_heading(self, name: str, dt: float) -> ImuReading:
+        """Robot ``name``'s inertial heading now (team frame: 0 faces the goal it attacks), ``dt`` [s] after
+        its previous reading."""
+        plugin = self._plugin(name)
+        state = self.world.robot_state(name)
+        heading = TeamFrame(plugin.spawn.attack).heading_to_team(state.theta)
+        return self.sensors.inertial_heading(name, heading, state.w, dt)
 
     # --- stepping -------------------------------------------------------------------------
     def step(self) -> list[SimEvent]:

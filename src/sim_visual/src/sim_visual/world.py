@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import ode
 
@@ -19,7 +20,9 @@ from nubot_common.field import FieldGeometry
 from nubot_common.geometry import quaternion_to_yaw, yaw_to_quaternion
 from nubot_common.world_description import BallBody, RobotBody
 from sim_visual import SimVisualError
-from sim_visual.params import PhysicsParams
+
+if TYPE_CHECKING:  # params imports the sensors, which use this module's states
+    from sim_visual.params import PhysicsParams
 
 _WALL_HEIGHT = 3.0  # arena walls keep lobs inside [m]
 _NET_THICKNESS = 0.02  # [m]
