@@ -11,6 +11,7 @@ AWAY_TEAM_DEFAULT := src/nubot_control/config/teams/rival.yaml
 MATCHES ?= 40
 SEED ?= 0
 SEEDS ?= 4
+VISION ?=
 
 .PHONY: setup match demo evaluate test unit integration bench soak lint clean
 .PHONY: bench-faithfulness
@@ -19,7 +20,8 @@ setup:
 	@bash scripts/setup.sh
 
 match: setup
-	@$(ROS) python scripts/run_match.py --half-seconds $(HALF_SECONDS) --tracker $(TRACKER) --field $(FIELD)
+	@$(ROS) python scripts/run_match.py --half-seconds $(HALF_SECONDS) --tracker $(TRACKER) --field $(FIELD) \
+	  --vision "$(VISION)"
 
 demo: setup
 	@$(ROS) python scripts/run_demo.py --sim-seconds $(DEMO_SECONDS)

@@ -1,6 +1,6 @@
 """Conversions between ROS messages and the simulator's own core types (the only place that knows both).
 
-Requires: generated ``nubot_common`` messages, ``geometry_msgs``, ``genpy`` (no rospy). The shared
+Requires: generated ``nubot_common`` messages, ``geometry_msgs``, ``sensor_msgs``, ``genpy`` (no rospy). The shared
 messages (OmniVisionInfo, VelCmd, the world description) are converted by ``nubot_common.conversions``.
 """
 
@@ -9,11 +9,13 @@ from __future__ import annotations
 import math
 
 from geometry_msgs.msg import Pose, Twist
+from sensor_msgs.msg import Imu
 
 from nubot_common.conversions import stamp
 from nubot_common.geometry import quaternion_to_yaw, yaw_to_quaternion
-from nubot_common.msg import BallTouch, GoalEvent, KickEvent, ModelStates, Point3d
+from nubot_common.msg import BallTouch, GoalEvent, KickEvent, ModelStates, OdoInfo, Point3d
 from sim_visual import SimVisualError
+from sim_visual.odometry import ImuReading, OdometryReading
 from sim_visual.simulator import BallKicked, BallTouched, GoalScored
 from sim_visual.world import BallState, RobotState
 
@@ -85,4 +87,26 @@ def kick_event_msg(kick: BallKicked) -> KickEvent:
     msg.kind = int(kick.kind)
     msg.velocity = Point3d(*kick.velocity)
     msg.ball_pos = Point3d(*kick.position)
+    return msg
+
+
+def odo_info_msg(reading: OdometryReading, t: float) -> OdoInfo:
+    """nubot_common/OdoInfo of a wheel odometry reading at sim time ``t`` [s] (body frame, SI)."""
+    msg = OdoInfo(Vx=reading.vx, Vy=reading.vy, w=reading.w, RobotStuck=reading.robot_stuck,
+                  PowerState=reading.power_state)
+    msg.header.stamp = stamp(t)
+    msg.header.frame_id = "base_link"
+    return msg
+
+
+def imu_msg(reading: ImuReading, t: float, frame_id: str) -> Imu:
+    """sensor_msgs/Imu of an inertial heading at sim time ``t``: orientation (yaw only, team frame) and yaw
+    rate; the covariances' first element -1 says a field is not given (REP 145), here the acceleration."""
+    msg = Imu()
+    msg.header.stamp = stamp(t)
+    msg.header.frame_id = frame_id
+    q = yaw_to_quaternion(reading.yaw)
+    msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
+    msg.angular_velocity.z = reading.yaw_rate
+    msg.linear_acceleration_covariance[0] = -1.0
     return msg

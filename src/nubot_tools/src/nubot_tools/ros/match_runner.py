@@ -154,6 +154,8 @@ def subscriber_counts() -> dict[str, int]:
     return {topic: len(nodes) for topic, nodes in subscribers}
 
 
+# Camera images (20 MB/s per robot at 30 Hz) stay out of a match's bag; record them apart when needed.
+UNRECORDED = r".*/(camera/image_raw|camera/labels|omnivision/debug_image)"
 CUT_SHORT_STATUS = 3  # exit status of a match that did not reach full time
 RUN_FILE = "run.json"  # beside the bag: how the match ended, and every node that died or came back
 
@@ -265,12 +267,16 @@ def main(argv: list[str] | None = None) -> int:
                         help="the motion layer's tracker of every robot (default: as configured, mpc)")
     parser.add_argument("--field", default="18x12",
                         help="the world: 18x12 (the chapter's field), 22x14 (the current MSL field) or a YAML file")
+    parser.add_argument("--vision", default="",
+                        help="robots that see through the simulated omni camera instead of the simulator's percepts "
+                             "(omni_vision): all, or names such as nubot1,nubot2; each costs a few ms of CPU a frame")
     args = parser.parse_args(argv)
     teams = args.team or [TEAMS / "nubot.yaml", TEAMS / "rival.yaml"]
     if len(teams) != 2:
         parser.error("give --team exactly twice")
 
     from nubot_common import NubotCommonError
+    from nubot_common.naming import RobotSelection
     from nubot_common.params import load_yaml
     from nubot_common.world_description import load_world, world_file
     from nubot_control.team_config import TeamConfig
@@ -278,6 +284,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         world_path = world_file(args.field)
         world = load_world(world_path)
+        vision = RobotSelection.parse(args.vision)
         configs = [load_yaml(TeamConfig, t) for t in teams]
         for config in configs:
             config.check_field(world.field)
@@ -300,13 +307,13 @@ def main(argv: list[str] | None = None) -> int:
         watcher = run.watcher
         sim = master.launch("sim", ["roslaunch", "--skip-log-check", "sim_visual", "match.launch",
                                     f"real_time_factor:={args.real_time_factor}", f"seed:={args.seed}",
-                                    f"world:={world_path}"])
+                                    f"world:={world_path}", f"vision:={vision}"])
         rospy.wait_for_service("/sim_visual/spawn_model", timeout=60)
         # A recorder that dies leaves match.bag.active: MatchRun.finish reindexes it into match.bag. What it
         # loses is the chunk it was filling: 256 KB, about 0.3 s of a 5 vs 5 match.
-        recorder = master.launch("recorder", ["rosbag", "record", "-a", "--chunksize=256", "-O", str(bag),
-                                              "__name:=match_recorder"])
-        tracker = ["--tracker", args.tracker] if args.tracker else []
+        recorder = master.launch("recorder", ["rosbag", "record", "-a", "-x", UNRECORDED, "--chunksize=256", "-O",
+                                              str(bag), "__name:=match_recorder"])
+        tracker = (["--tracker", args.tracker] if args.tracker else []) + ["--vision", str(vision)]
         for team_file, config in zip(teams, configs):
             master.launch(f"team_{config.prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
                                                     str(team_file), *tracker])

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from nubot_common import NubotCommonError
 from nubot_common.geometry import yaw_to_quaternion
+from nubot_common.naming import RobotSelection
 from nubot_common.params import load_yaml
 from nubot_common.world_description import WORLD_NAMESPACE, world_from_params
 from nubot_control.plugins import resolve_spec, strategy_class
@@ -67,8 +68,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--keep-models", action="store_true", help="leave the models in the world on exit")
     parser.add_argument("--tracker", choices=("mpc", "baseline"), default="",
                         help="the motion layer's tracker for every robot (default: as configured)")
+    parser.add_argument("--vision", default="",
+                        help="robots that see through the simulated omni camera (omni_vision): all or nubot1,nubot2")
     args = parser.parse_args(argv)
     try:
+        vision = RobotSelection.parse(args.vision)
         team = load_yaml(TeamConfig, args.team_config)
         team = replace(team, strategy=resolve_spec(team.strategy, args.team_config.parent))
         if team.strategy:
@@ -87,7 +91,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     spawn_models(team)
     launch_file = Path(tempfile.mkdtemp(prefix=f"team_{team.prefix}_")) / "team.launch"
-    launch_file.write_text(team_launch_xml(team, args.tracker))
+    launch_file.write_text(team_launch_xml(team, args.tracker, vision))
     child = subprocess.Popen(["roslaunch", "--skip-log-check", str(launch_file)], start_new_session=True)
     print(f"[spawn] team {team.name}: {len(team.robots)} robots' nodes started (pid {child.pid})", flush=True)
     stopping = False
