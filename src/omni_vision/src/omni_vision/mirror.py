@@ -34,9 +34,9 @@ class MirrorModel:
     height: int = 480
     centre_u: float = 240.0  # mirror centre in the image [px]
     centre_v: float = 240.0
-    r_min: float = 60.0  # usable radii [px]: inside is the robot's body, outside the mirror's rim
+    r_min: float = 37.0  # usable radii [px]: inside is the robot's own body, outside the mirror's rim
     r_max: float = 230.0
-    a: float = 1.1926  # d(r) = a tan(b r): d(60 px) = 0.47 m, d(200 px) = 3.6 m, d(230 px) = 9.0 m
+    a: float = 1.1926  # d(r) = a tan(b r): d(37 px) = 0.28 m (a held ball shows), d(200 px) = 3.6 m, d(230 px) = 9 m
     b: float = 0.0062567
     viewpoint_height: float = 0.75  # [m] above the ground
     table: tuple[tuple[float, float], ...] = ()  # calibrated (radius [px], distance [m]) pairs; replaces a, b

@@ -11,9 +11,10 @@ the localization estimate, each stage's time).
 
 The stages, in order: read the frame along the radial scan lines (colour classes through the table);
 white line points; the ball; the obstacles; self-localization (odometry prediction, line matching,
-Kalman fusion, global search while not localized). The ball counts as held when it lies in front of the
-robot within ``holding_distance`` and ``holding_angle`` (the vision's view of the grabber; the simulator
-captures a ball there). The robot is ``valid`` while localized and on the field with its border.
+Kalman fusion, global search while not localized). Whether the robot holds the ball is what its ball
+handler says (``ball_holding``: the base driver's signal); without a recent one, the vision's guess: the
+ball in front within ``holding_distance`` and ``holding_angle`` (a free ball lying there reads as held).
+The robot is ``valid`` while localized and on the field with its border.
 """
 
 from __future__ import annotations
@@ -53,9 +54,10 @@ class OmniVisionParams:
     holding_distance: float = 0.6  # [m] a ball centre this close in front is in the grabber
     holding_angle_deg: float = 20.0  # [deg] either side of the front
     heading_timeout: float = 0.5  # [s] an older inertial heading is not used
+    holding_timeout: float = 0.5  # [s] an older ball handler signal is not used
 
     def __post_init__(self) -> None:
-        for name in ("holding_distance", "holding_angle_deg", "heading_timeout"):
+        for name in ("holding_distance", "holding_angle_deg", "heading_timeout", "holding_timeout"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"{name} must be positive, got {value}")
@@ -93,6 +95,7 @@ class OmniVision:
         self._velocity = (0.0, 0.0, 0.0)  # latest odometry, body frame [m/s, m/s, rad/s]
         self._stuck = False
         self._heading: tuple[float, float] | None = None  # (t [s], team-frame heading [rad])
+        self._holding: tuple[float, bool] | None = None  # (t [s], the ball handler holds the ball)
 
     def reset(self, pose: Pose2D | None = None) -> None:
         """Forget the pose (or start tracking at ``pose``): the next frames localize globally."""
@@ -111,6 +114,12 @@ class OmniVision:
         if not (math.isfinite(t) and math.isfinite(heading)):
             raise OmniVisionError(f"the inertial heading must be finite, got {heading} at {t}")
         self._heading = (t, heading)
+
+    def ball_holding(self, t: float, holding: bool) -> None:
+        """The ball handler's signal at ``t`` [s]: it holds the ball (the base driver's report)."""
+        if not math.isfinite(t):
+            raise OmniVisionError(f"the ball handler's time must be finite, got {t}")
+        self._holding = (t, bool(holding))
 
     def process(self, t: float, image: np.ndarray) -> VisionFrame:
         """One camera frame taken at ``t`` [s] (RGB, the mirror model's size; OmniVisionError if unusable)."""
@@ -139,8 +148,11 @@ class OmniVision:
         vx, vy, w = self._velocity
         tvx, tvy = rotate(vx, vy, pose.theta)
         field = self.world.field
-        holding = ball is not None and math.hypot(ball.x, ball.y) <= self.params.holding_distance and \
-            abs(math.atan2(ball.y, ball.x)) <= math.radians(self.params.holding_angle_deg)
+        if self._holding is not None and abs(t - self._holding[0]) <= self.params.holding_timeout:
+            holding = self._holding[1]
+        else:
+            holding = ball is not None and math.hypot(ball.x, ball.y) <= self.params.holding_distance and \
+                abs(math.atan2(ball.y, ball.x)) <= math.radians(self.params.holding_angle_deg)
         valid = estimate.localized and field.is_inside(pose.x, pose.y, field.border)
         robot = RobotReport(self.agent_id, pose, tvx, tvy, w, valid=valid, stuck=self._stuck, holding=holding)
         percept = None

@@ -81,9 +81,9 @@ def test_field_lines_seen_from_poses_give_points_on_the_field_lines(scanner):
 def test_a_line_outside_the_usable_ring_gives_no_points(scanner):
     """A line beyond the mirror's rim (9.5 m) and a line inside r_min (under the robot, its body not painted, so the
     carpet and the line are visible there) give no points."""
-    assert MIRROR.max_distance < 9.5 and MIRROR.min_distance > 0.3
+    assert MIRROR.max_distance < 9.5 and MIRROR.min_distance > 0.25
     beyond = _scan(scanner, Scene(segments=(((9.5, -3.0), (9.5, 3.0)),), seed=4))
-    under = _scan(scanner, Scene(segments=(((0.25, -0.2), (0.25, 0.2)), ((-0.2, -0.3), (-0.2, 0.3))),
+    under = _scan(scanner, Scene(segments=(((0.15, -0.1), (0.15, 0.1)), ((-0.12, -0.15), (-0.12, 0.15))),
                                  own_body=False, seed=5))
     assert len(beyond) == 0 and len(under) == 0
 
