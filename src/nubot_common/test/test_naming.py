@@ -6,6 +6,7 @@ from nubot_common import NubotCommonError
 from nubot_common.naming import (
     RobotName,
     RobotNodeParams,
+    RobotSelection,
     check_team_prefix,
     is_robot_name,
     parse_robot_name,
@@ -65,3 +66,51 @@ def test_a_robot_node_plays_as_the_agent_id_in_its_name_unless_told_otherwise(da
 def test_a_bad_robot_node_parameter_is_refused_by_name(data, message):
     with pytest.raises(NubotCommonError, match=message):
         from_mapping(RobotNodeParams, data, "~")
+
+
+def test_all_selects_every_robot_whatever_its_name():
+    """``all`` selects every robot, of either team, and reads back as ``all``."""
+    selection = RobotSelection.parse("all")
+    assert selection == RobotSelection(every=True)
+    assert "nubot1" in selection and "rival5" in selection
+    assert str(selection) == "all"
+
+
+@pytest.mark.parametrize("text", ["", "   ", ",", " , "])
+def test_an_empty_selection_selects_no_robot(text):
+    """Nothing (or only separators) selects no robot, and reads back as the empty string."""
+    selection = RobotSelection.parse(text)
+    assert selection == RobotSelection()
+    assert "nubot1" not in selection
+    assert str(selection) == ""
+
+
+@pytest.mark.parametrize("text", ["nubot1,rival2", "rival2, nubot1", "nubot1 rival2", " nubot1,,rival2 ",
+                                  "rival2 , nubot1,nubot1"])
+def test_names_separated_by_commas_or_spaces_select_those_robots(text):
+    """Names separated by commas and/or spaces select exactly those robots; ``str`` lists them sorted, comma
+    separated, and parses back to the same selection."""
+    selection = RobotSelection.parse(text)
+    assert selection.names == frozenset({"nubot1", "rival2"}) and not selection.every
+    assert "nubot1" in selection and "rival2" in selection
+    assert "nubot2" not in selection and "rival1" not in selection
+    assert str(selection) == "nubot1,rival2"
+    assert RobotSelection.parse(str(selection)) == selection
+
+
+@pytest.mark.parametrize(("text", "word"), [("nubot1,coach", "coach"), ("nubot0", "nubot0"),
+                                            ("nubot1;rival2", "nubot1;rival2"), ("all,nubot1", "all"),
+                                            ("everyone", "everyone"), ("ALL", "ALL")])
+def test_a_word_that_is_no_robot_name_is_refused_naming_it(text, word):
+    """A word that is neither a robot name nor ``all`` (alone) is refused naming the word and the selection."""
+    with pytest.raises(NubotCommonError, match=rf"^robot selection '{text}': '{word}' is not a robot name "
+                                               r"\(e\.g\. nubot2\) nor all$"):
+        RobotSelection.parse(text)
+
+
+@pytest.mark.parametrize("text", [None, 3, ["nubot1"]])
+def test_a_selection_that_is_no_text_is_refused(text):
+    """A selection given as something other than text (a YAML list, a number) is refused showing it."""
+    with pytest.raises(NubotCommonError, match=r"a robot selection is all, nothing or names like nubot1,rival2; "
+                                               r"got "):
+        RobotSelection.parse(text)

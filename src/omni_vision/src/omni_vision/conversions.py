@@ -67,9 +67,12 @@ def imu_yaw(msg) -> float:  # noqa: ANN001 (a sensor_msgs/Imu)
     """The heading [rad] of the Imu message's orientation; raise ``OmniVisionError`` for a non-finite one."""
     q = msg.orientation
     values = (q.x, q.y, q.z, q.w)
-    if not all(math.isfinite(v) for v in values) or sum(v * v for v in values) < 1e-6:
+    norm2 = sum(v * v for v in values)
+    if not all(math.isfinite(v) for v in values) or norm2 < 1e-6:
         raise OmniVisionError(f"inertial orientation {values} is not a rotation")
-    return quaternion_to_yaw(*values)
+    # quaternion_to_yaw assumes a unit quaternion: a driver's unnormalised one would skew the yaw
+    norm = math.sqrt(norm2)
+    return quaternion_to_yaw(*(v / norm for v in values))
 
 
 def localization_error_msg(view: RobotView, localized: bool, truth: Pose2D, msg_type):  # noqa: ANN001, ANN201

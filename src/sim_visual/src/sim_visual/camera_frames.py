@@ -42,6 +42,8 @@ def random_scenes(world: WorldDescription, frames: int, rng: np.random.Generator
         near = rng.uniform() < 0.5
         bx = me.x + rng.uniform(-3.0, 3.0) if near else rng.uniform(-hx, hx)
         by = me.y + rng.uniform(-3.0, 3.0) if near else rng.uniform(-hy, hy)
+        # a ball near a viewer at the wall would land beyond it: keep it inside, like the robots
+        bx, by = float(np.clip(bx, -hx, hx)), float(np.clip(by, -hy, hy))
         bz = world.ball.radius + (rng.uniform(0.0, 0.6) if rng.uniform() < 0.2 else 0.0)
         yield 2.0 * k, me, BallState(bx, by, bz, 0.0, 0.0, 0.0), others
 
