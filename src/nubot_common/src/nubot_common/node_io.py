@@ -20,8 +20,10 @@ import warnings
 import rospy
 
 
-def publisher(topic: str, msg_type: type, latch: bool = False) -> rospy.Publisher:
-    """A rospy publisher that writes from the caller's thread (``queue_size=None``, documented by rospy)."""
+def publisher(topic: str, msg_type: type, latch: bool = False, queue_size: int | None = None) -> rospy.Publisher:
+    """A rospy publisher that writes from the caller's thread (``queue_size=None``, documented by rospy); with a
+    ``queue_size``, one that hands each message to a thread per subscriber and drops the oldest beyond it, so a
+    slow subscriber never holds up the publisher (camera images: a camera drops frames nobody takes)."""
     with warnings.catch_warnings():  # rospy warns about queue_size=None whether or not it is deliberate
         warnings.simplefilter("ignore", SyntaxWarning)
-        return rospy.Publisher(topic, msg_type, queue_size=None, latch=latch)
+        return rospy.Publisher(topic, msg_type, queue_size=queue_size, latch=latch)

@@ -28,12 +28,14 @@ PERFORMANCE = ("achieved_real_time_factor", "control_rate_min_hz", "missed_cycle
 TRAFFIC = ("messages_per_second", "deliveries_per_second")
 
 
-def play_match(tracker: str, seed: int, half_seconds: float, out: Path) -> dict:
-    perf_file = out / f"match_perf_{tracker}_seed{seed}.json"
+def play_match(tracker: str, seed: int, half_seconds: float, out: Path, extra: tuple[str, ...] = (),
+               label: str = "") -> dict:
+    """One half of a match with ``run_match.py`` (``extra`` arguments added), its figures and report's."""
+    perf_file = out / f"match_perf_{label or tracker}_seed{seed}.json"
     folder = out / "matches"
     status = subprocess.run([sys.executable, "-m", "nubot_tools.ros.match_runner", "--half-seconds",
                              str(half_seconds), "--halves", "1", "--seed", str(seed), "--out", str(folder),
-                             "--tracker", tracker, "--perf-json", str(perf_file)]).returncode
+                             "--tracker", tracker, "--perf-json", str(perf_file), *extra]).returncode
     latest = max(folder.iterdir(), key=lambda p: p.stat().st_mtime)
     report = json.loads((latest / "report.json").read_text())
     perf = json.loads(perf_file.read_text())

@@ -295,8 +295,8 @@ def main(argv: list[str] | None = None) -> int:
     bag = out / "match.bag"
     game_seconds = args.half_seconds * args.halves
     print(f"match {configs[0].name} vs {configs[1].name} on the {world.name} field: {args.halves} x "
-          f"{args.half_seconds:.0f} s, real_time_factor {args.real_time_factor}, seed {args.seed}; folder {out}",
-          flush=True)
+          f"{args.half_seconds:.0f} s, real_time_factor {args.real_time_factor}, seed {args.seed}"
+          f"{f', seeing through their cameras: {vision}' if str(vision) else ''}; folder {out}", flush=True)
     with RosMaster(out / "logs") as master:
         os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
         import rospy
