@@ -154,16 +154,8 @@ class FrameRecord:
         return abs(wrap_angle(self.estimate.theta - self.truth.theta))
 
 
-@dataclass(frozen=True)
-class Reference:
-    """Where a driven robot should be at one time: pose (world frame) and its rate [m/s, rad/s]."""
-
-    x: float
-    y: float
-    theta: float
-    vx: float
-    vy: float
-    w: float
+# Where a driven robot should be at one time: its pose and velocity in the world frame.
+Reference = RobotState
 
 
 # --- the rig: one simulator, one vision --------------------------------------------------------------------------
