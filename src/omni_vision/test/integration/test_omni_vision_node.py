@@ -125,7 +125,8 @@ def test_a_recorded_bag_replays_to_the_same_localization(vision_demo, ros_master
     try:
         wait_until(lambda: "omni_vision: nubot1" in replay_vision.log_text() or _node_up("/nubot1/omni_vision"),
                    30, "the replaying omni_vision node")
-        player = ros_master.launch("player", ["rosbag", "play", "--clock", "-r", "1", str(bag),
+        # the first 12 s: global localization, the chase and the goal
+        player = ros_master.launch("player", ["rosbag", "play", "--clock", "-u", "12", str(bag),
                                               "/nubot1/omnivision/OmniVisionInfo:=/recorded/OmniVisionInfo"])
         wait_until(lambda: not player.alive(), 120, "rosbag play to finish")
         time.sleep(0.5)
@@ -169,7 +170,8 @@ def test_bad_images_are_logged_and_skipped_and_a_bad_table_file_is_fatal(ros_mas
             pub.publish(msg)
         wait_until(lambda: "image refused" in node.log_text(), 10, "the refusal in the log")
         assert node.alive()
-        assert "480 x 480" in node.log_text() or "640" in node.log_text()
+        # the first refusal is logged (the others within a few seconds are not): it names what is wrong
+        assert "640" in node.log_text() or "'mono8' unsupported" in node.log_text()
         pub.unregister()
     finally:
         node.stop()

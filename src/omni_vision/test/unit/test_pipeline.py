@@ -14,7 +14,7 @@ from omni_vision import OmniVisionError
 from omni_vision.colors import ColorTable
 from omni_vision.localization import LocalizationState
 from omni_vision.pipeline import OmniVision, OmniVisionParams, VisionFrame
-from sim_visual.omni_camera import OmniCameraParams
+from sim_visual.camera_params import OmniCameraParams
 from sim_visual.sensors import RobotSensors, SensorParams
 from sim_visual.world import BallState, RobotState
 

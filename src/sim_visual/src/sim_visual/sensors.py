@@ -16,11 +16,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from dataclasses import field as dc_field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from nubot_common.world_description import WorldDescription
 from omni_vision.mirror import MirrorModel
+from sim_visual.camera_params import OmniCameraParams
 from sim_visual.odometry import (
     ImuParams,
     ImuReading,
@@ -30,8 +32,10 @@ from sim_visual.odometry import (
     WheelOdometry,
     body_velocity,
 )
-from sim_visual.omni_camera import OmniCameraParams, OmniCameraRenderer, RenderedFrame
 from sim_visual.world import BallState, RobotState
+
+if TYPE_CHECKING:  # the renderer (OpenCV) is imported on the first frame, not by every simulator
+    from sim_visual.omni_camera import OmniCameraRenderer, RenderedFrame
 
 SENSOR_STREAM = 1  # the sensors' generator: SeedSequence([seed, SENSOR_STREAM])
 
@@ -55,6 +59,8 @@ class RobotSensors:
     @property
     def renderer(self) -> OmniCameraRenderer:
         if self._renderer is None:
+            from sim_visual.omni_camera import OmniCameraRenderer
+
             self._renderer = OmniCameraRenderer(self.world, self.params.mirror, self.params.camera)
         return self._renderer
 

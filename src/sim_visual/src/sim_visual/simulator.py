@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import astuple, dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -27,7 +28,6 @@ from nubot_common.percepts import RobotView
 from nubot_common.team_frame import TeamFrame
 from sim_visual import SimVisualError
 from sim_visual.odometry import ImuReading, OdometryReading
-from sim_visual.omni_camera import RenderedFrame
 from sim_visual.params import (
     MAX_BALL_HEIGHT,
     MAX_BALL_SPEED,
@@ -49,6 +49,9 @@ from sim_visual.rules import (
 from sim_visual.sensing import RobotFlags, observe
 from sim_visual.sensors import RobotSensors
 from sim_visual.world import BallState, PhysicsWorld, RobotState
+
+if TYPE_CHECKING:
+    from sim_visual.omni_camera import RenderedFrame
 
 _NO_NOISE = NoiseParams(position_std=0.0, velocity_std=0.0, self_position_std=0.0, heading_std=0.0)
 _KICK_FLAG_TIME = 0.2  # RobotInfo.iskick stays true this long after a kick [s]

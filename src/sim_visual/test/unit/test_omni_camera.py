@@ -10,7 +10,8 @@ from nubot_common.params import from_mapping
 from nubot_common.world_description import WorldDescription
 from omni_vision.colors import ColorClass
 from omni_vision.mirror import MirrorModel
-from sim_visual.omni_camera import OmniCameraParams, OmniCameraRenderer
+from sim_visual.camera_params import OmniCameraParams
+from sim_visual.omni_camera import OmniCameraRenderer
 from sim_visual.world import BallState, RobotState
 
 WORLD = WorldDescription()  # the 18 x 12 m field
