@@ -99,7 +99,10 @@ def test_ctrl_c_stops_the_workers_and_keeps_the_finished_matches(tmp_path):
     out = tmp_path / "eval"
     process = subprocess.Popen([sys.executable, str(SCRIPT), "--home", home, "--away", away, "--matches", "20",
                                 "--half-seconds", "2", "--halves", "1", "--jobs", "1", "--out", str(out)],
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+                               # as in a terminal, even when the tests run as a background job (which ignores
+                               # SIGINT, and its children would inherit that)
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         wait_until(lambda: (out / "results.json").exists() and
                    json.loads((out / "results.json").read_text())["finished"] >= 1, 240, "a finished match")

@@ -125,8 +125,8 @@ def test_a_recorded_bag_replays_to_the_same_localization(vision_demo, ros_master
     try:
         wait_until(lambda: "omni_vision: nubot1" in replay_vision.log_text() or _node_up("/nubot1/omni_vision"),
                    30, "the replaying omni_vision node")
-        # the first 12 s: global localization, the chase and the goal
-        player = ros_master.launch("player", ["rosbag", "play", "--clock", "-u", "12", str(bag),
+        # the first 8 s: global localization, the chase and the goal
+        player = ros_master.launch("player", ["rosbag", "play", "--clock", "-u", "8", str(bag),
                                               "/nubot1/omnivision/OmniVisionInfo:=/recorded/OmniVisionInfo"])
         wait_until(lambda: not player.alive(), 120, "rosbag play to finish")
         time.sleep(0.5)
