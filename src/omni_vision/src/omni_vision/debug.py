@@ -29,10 +29,8 @@ def draw_debug_image(image: np.ndarray, frame: VisionFrame, vision: OmniVision) 
     """The frame with the segmentation on the scan lines, the line points, the ball, obstacles and the pose."""
     out = (np.asarray(image, dtype=np.uint8) // 2).copy()  # darkened, so the drawings stand out
     rays, mirror = vision.scanner.rays, vision.mirror
-    yuv = cv2.cvtColor(np.ascontiguousarray(image[rays.v, rays.u]), cv2.COLOR_RGB2YUV)
-    classes = vision.table.classify(yuv)
     for cls, rgb in _CLASS_RGB.items():
-        mask = classes == cls
+        mask = frame.classes == cls
         out[rays.v[mask], rays.u[mask]] = rgb
     centre = (int(round(mirror.centre_u)), int(round(mirror.centre_v)))
     for radius in (mirror.r_min, mirror.r_max):

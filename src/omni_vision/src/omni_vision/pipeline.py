@@ -70,6 +70,7 @@ class VisionFrame:
     lines: LinePoints  # body frame, with their pixels
     ball: BallDetection | None  # body frame
     obstacles: tuple[ObstacleDetection, ...]  # body frame
+    classes: np.ndarray  # ColorClass of each scan-ray sample (ray_count x samples), for the debug image
     timings: dict[str, float]  # [s] per stage: sample, lines, ball, obstacles, localization, total
 
     @property
@@ -140,7 +141,8 @@ class OmniVision:
         end = clock()
         timings = {"sample": t_sample - start, "lines": t_lines - t_sample, "ball": t_ball - t_lines,
                    "obstacles": t_obstacles - t_ball, "localization": end - t_obstacles, "total": end - start}
-        return VisionFrame(self._view(t, estimate, ball, obstacles), estimate, lines, ball, obstacles, timings)
+        return VisionFrame(self._view(t, estimate, ball, obstacles), estimate, lines, ball, obstacles,
+                           samples.classes, timings)
 
     def _view(self, t: float, estimate: LocalizationEstimate, ball: BallDetection | None,
               obstacles: tuple[ObstacleDetection, ...]) -> RobotView:
