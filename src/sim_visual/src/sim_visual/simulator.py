@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import astuple, dataclass, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -58,6 +58,14 @@ _KICK_FLAG_TIME = 0.2  # RobotInfo.iskick stays true this long after a kick [s]
 _STUCK_MIN_COMMAND = 0.3  # commands slower than this never count as stuck [m/s]
 _STUCK_FILTER_TIME = 0.2  # time constant of the ground-speed estimate [s]
 _LOB_LIFT = 0.01  # a lobbed ball starts this far above the carpet [m]
+
+
+class WheelBase(Protocol):
+    """A wheel layout (``nubot_hwcontrol.kinematics.WheelLayout``): body velocity to rim speeds and back."""
+
+    def wheel_speeds(self, vx: float, vy: float, w: float) -> np.ndarray: ...
+
+    def body_velocity(self, rim_speeds: np.ndarray) -> tuple[float, float, float]: ...
 
 
 @dataclass(frozen=True)
@@ -257,6 +265,21 @@ class Simulator:
         command, clamped = clamp_command(vx, vy, w, self.plugin_params)
         plugin.command, plugin.command_time = command, self.time
         return command, clamped
+
+    def command_wheels(self, name: str, base: WheelBase, rim_speeds: np.ndarray) -> tuple[BodyVelocity, bool]:
+        """Drive a robot by its wheels: the body velocity their rim speeds [m/s] give (least squares over the
+        wheels), clamped as a velocity command; returns it and whether it was clamped."""
+        speeds = np.asarray(rim_speeds, dtype=float)
+        if not np.all(np.isfinite(speeds)):
+            raise SimVisualError(f"wheel speeds must be finite, got {speeds.tolist()}")
+        return self.command_velocity(name, *base.body_velocity(speeds))
+
+    def wheel_ground_speeds(self, name: str, base: WheelBase) -> np.ndarray:
+        """The rim speed robot ``name``'s actual motion gives each of its wheels [m/s]."""
+        self._plugin(name)
+        state = self.world.robot_state(name)
+        vx, vy = rotate(state.vx, state.vy, -state.theta)
+        return base.wheel_speeds(vx, vy, state.w)
 
     def ball_handle(self, name: str, enable: int) -> bool:
         """Enable (non-zero) or disable dribbling; return whether the robot now holds the ball."""
