@@ -141,6 +141,15 @@ def test_a_goal_while_play_is_stopped_is_listed_apart_and_not_counted():
     assert summary.to_json()["goals_outside_play"] == [{"t": 5.0, "side": -1, "last_touch": "nubot4"}]
 
 
+def test_a_goal_just_after_full_time_is_not_counted_as_the_referee_did_not():
+    log = ma.MatchLog(goals=[ma.Goal(20.035, 1, (9.1, 0.0), "nubot2")],
+                      referee=[state(0.0, True), state(20.0, False, event="end of the half")],  # full time, score 0-0
+                      start=0.0, end=25.0)
+    summary = ma.analyse(log, WORLD)
+    assert summary.score == {"nubot": 0, "rival": 0} and summary.score_agrees
+    assert [g.goal.t for g in summary.goals_outside_play] == [20.035]
+
+
 def test_analyse_reports_a_referee_score_that_differs():
     log = ma.MatchLog(goals=[ma.Goal(5.0, 1, (9.1, 0.0), "nubot2")],
                       referee=[state(0.0, True), state(6.0, True, score=(0, 0))], start=0.0, end=10.0)

@@ -19,8 +19,8 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
   the sim time to the next sample (the last one: the median step);
 - running time: the time during which the last ``GameState`` says ``running``
   (before the first one: not running); all of the recording if no ``GameState``;
-- goal: every ``GoalEvent`` during running time (or within ``GOAL_GRACE`` after it ended: the
-  referee may have seen the goal first), credited to the team that attacks that side
+- goal: every ``GoalEvent`` during running time (or within ``GOAL_GRACE`` after play stopped when the
+  referee's score rose at that stop: the referee saw the goal first; not after full time), credited to the team that attacks that side
   at that time (``GameState.attack``, else the default attack); an own goal when the last
   touch was by the other team. The score is counted from these and compared with the last
   ``GameState.score``; a ball pushed into a goal while play is stopped is listed apart
@@ -394,6 +394,17 @@ def running_intervals(referee: Sequence[RefereeState], start: float, end: float)
     return intervals
 
 
+def goal_stops(referee: Sequence[RefereeState], intervals: Sequence[tuple[float, float]]) -> list[bool]:
+    """Return for each running interval whether play stopped for a goal: the referee's score rose within
+    ``GOAL_GRACE`` of the interval's end (rather than full time, a foul or a coach's stop)."""
+    stops = []
+    for _, b in intervals:
+        before = [sum(s.score) for s in referee if s.t < b]
+        after = [sum(s.score) for s in referee if b <= s.t <= b + GOAL_GRACE]
+        stops.append(bool(before and after) and max(after) > before[-1])
+    return stops
+
+
 def overlap(t0: float, t1: float, intervals: Iterable[tuple[float, float]]) -> float:
     """Return how much of [t0, t1) lies inside the intervals [s]."""
     return sum(max(0.0, min(t1, b) - max(t0, a)) for a, b in intervals)
@@ -685,7 +696,8 @@ def analyse(log: MatchLog, world: WorldDescription, default_attack: tuple[str, i
     intervals = running_intervals(log.referee, log.start, log.end)
     credited, warnings = credit_goals(log, attack)
     # A goal stops play: the referee may see it (by geometry) a moment before the simulator's event.
-    in_play = [any(a <= g.goal.t <= b + GOAL_GRACE for a, b in intervals) for g in credited]
+    ends = [b + GOAL_GRACE if goal else b for (_, b), goal in zip(intervals, goal_stops(log.referee, intervals))]
+    in_play = [any(a <= g.goal.t <= e for (a, _), e in zip(intervals, ends)) for g in credited]
     goals = [g for g, ok in zip(credited, in_play) if ok]
     stopped = [g for g, ok in zip(credited, in_play) if not ok]
     score = dict.fromkeys(teams, 0)
