@@ -36,6 +36,12 @@ def test_the_simulated_drive_follows_a_figure_eight_and_odometry_agrees_with_the
     for node in ("/nubot_hwcontrol", "/omni_vision", "/world_model", "/nubot2/team_link", "/sim_visual"):
         assert node in result["cpu_cores"], f"{node} is not running: {sorted(result['cpu_cores'])}"
     assert "/nubot_control" not in result["cpu_cores"]  # control:=false leaves the velocity to the user
+    # docs/topics.md, "Topics of a robot driven by its wheels": the drive and the simulator talk both ways
+    graph = {topic.rsplit("/", 1)[1]: ends for topic, ends in result["graph"].items()}
+    assert graph["wheel_speeds"]["publishers"] == ["/nubot_hwcontrol"], graph
+    assert "/sim_visual" in graph["wheel_speeds"]["subscribers"], graph
+    assert graph["drive_feedback"]["publishers"] == ["/sim_visual"], graph
+    assert "/nubot_hwcontrol" in graph["drive_feedback"]["subscribers"], graph
 
 
 def test_one_robot_alone_scores_once_the_coach_starts_it_through_the_team_link(tmp_path):
