@@ -20,9 +20,9 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
 - running time: the time during which the last ``GameState`` says ``running``
   (before the first one: not running); all of the recording if no ``GameState``;
 - goal: every ``GoalEvent`` during running time (or within ``GOAL_GRACE`` after play stopped when the
-  referee's score rose at that stop: the referee saw the goal first; not after full time), credited to the team that attacks that side
-  at that time (``GameState.attack``, else the default attack); an own goal when the last
-  touch was by the other team. The score is counted from these and compared with the last
+  referee's score rose at that stop: the referee saw the goal first; not after full time), credited to
+  the team that attacks that side at that time (``GameState.attack``, else the default attack); an own
+  goal when the last touch was by the other team. The score is counted from these and compared with the last
   ``GameState.score``; a ball pushed into a goal while play is stopped is listed apart
   (``goals_outside_play``), as the referee does not count it;
 - touch: a ``BallTouch`` or a ``KickEvent`` (a kicker touched the ball);
