@@ -24,7 +24,6 @@ import subprocess
 import sys
 import tempfile
 import time
-import xmlrpc.client
 from pathlib import Path
 
 from nubot_tools.processes import RosMaster
@@ -124,7 +123,7 @@ def run(args: argparse.Namespace, result: dict, logs: Path) -> None:
                 next_sample = time.monotonic() + 2.0
             time.sleep(0.03)
         elapsed = rospy.get_time() - start
-        result["graph"] = drive_graph(master.uri)
+        result["graph"] = drive_graph()
         result.update(sim_seconds=elapsed, goals=[{"side": g.side, "last_touch": g.last_touch,
                                                    "time": g.header.stamp.to_sec() - start} for g in goals],
                       ever_held=any(holding))
@@ -137,11 +136,11 @@ def run(args: argparse.Namespace, result: dict, logs: Path) -> None:
             result.update(drift(truth[start_truth:], odo[start_odo:]))
 
 
-def drive_graph(uri: str) -> dict[str, dict[str, list[str]]]:
+def drive_graph() -> dict[str, dict[str, list[str]]]:
     """Return the publishers and subscribers of the topics between the simulated drive and the simulator."""
-    code, _, (publishers, subscribers, _services) = xmlrpc.client.ServerProxy(uri).getSystemState("/real_robot_run")
-    if code != 1:
-        raise RuntimeError("the master did not give its system state")
+    import rosgraph
+
+    publishers, subscribers, _services = rosgraph.Master("/real_robot_run").getSystemState()
     graph: dict[str, dict[str, list[str]]] = {}
     for kind, table in (("publishers", publishers), ("subscribers", subscribers)):
         for topic, nodes in table:
