@@ -93,9 +93,9 @@ class HardwareController:
             raise HardwareError(f"ShootPos must be -1 (flat) or 1 (lob), got {shoot_pos}")
         self.params.calibration.pulse_for(strength, shoot_pos)  # validates the strength
         lob = shoot_pos == LOB
-        if not self.ball.holding or self.kicker.ready_in(now, lob) > self.params.kicker.lever_time:
-            return None
         delay = self.kicker.ready_in(now, lob)
+        if not self.ball.holding or delay > self.params.kicker.lever_time:
+            return None
         order = self.kicker.request(now, strength, shoot_pos)
         self.backend.set_lever(order.lob)
         return delay

@@ -142,9 +142,8 @@ class Kicker:
 
     def ready_in(self, now: float, lob: bool) -> float:
         """Seconds until a shot of this kind could fire (0: now)."""
-        lever = 0.0 if lob == self.lob else self.params.lever_time
-        settle = max(0.0, self._lever_moved + self.params.lever_time - now) if lob == self.lob else lever
-        return max(settle, self._last_shot + self.params.recharge_time - now, 0.0)
+        lever_ready = self._lever_moved + self.params.lever_time if lob == self.lob else now + self.params.lever_time
+        return max(lever_ready - now, self._last_shot + self.params.recharge_time - now, 0.0)
 
     def request(self, now: float, strength: float, shoot_pos: int) -> ShotOrder:
         pulse = min(self.calibration.pulse_for(strength, shoot_pos), self.params.max_pulse_ms)
