@@ -4,11 +4,11 @@ Requires: the generated ``nubot_common`` messages and ``genpy`` (no rospy). Prov
 node needs both: percepts (``robot_report``/``robot_info_msg``, ``ball_percept``/``ball_info_msg``,
 ``robot_view``/``omni_vision_msg``, ``team_views``/``team_message_msg``), coach commands
 (``coach_fields``, ``coach_info_msg``), team play (``pass_command``/``pass_commands_msg``,
-``strategy_report``/``strategy_info_msg``, ``target_info_msg``/``target_of``), the world model's
-decision (``world_model_info_msg``/``world_state``: lossless for everything control reads),
-commands (``velcmd_msg``/``body_velocity``) and the world description (``world_description_msg``/
-``world_description``). Conventions: a zero header stamp means "not stamped" (the reader uses the
-time of arrival); ``char`` fields arrive as an int, a byte or a one-letter string and leave as int;
+``strategy_report``/``strategy_info_msg``, ``target_info_msg``/``target_of``), the motion layer's path
+(``planned_path_msg``/``planned_path``), the world model's decision (``world_model_info_msg``/``world_state``:
+lossless for everything control reads), commands (``velcmd_msg``/``body_velocity``) and the world description
+(``world_description_msg``/``world_description``). Conventions: a zero header stamp means "not stamped" (the
+reader uses the time of arrival); ``char`` fields arrive as an int, a byte or a one-letter string and leave as int;
 ``CoachInfo.header.stamp`` inside ``WorldModelInfo`` is when the current command came into force.
 """
 
@@ -36,6 +36,7 @@ from nubot_common.msg import (
     ObstaclesInfo,
     OmniVisionInfo,
     PassCommands,
+    PlannedPath,
     Point2d,
     PPoint,
     RobotInfo,
@@ -269,6 +270,17 @@ def target_info_msg(report: StrategyReport) -> TargetInfo:
 
 def target_of(msg: TargetInfo) -> Point | None:
     return _point(msg.target[0]) if msg.target else None
+
+
+def planned_path_msg(points: Sequence[Point], t: float, team: str) -> PlannedPath:
+    """The path a robot of team ``team`` follows (team frame [m]; no points: none), stamped ``t`` [s]."""
+    msg = PlannedPath(points=[Point2d(x, y) for x, y in points])
+    msg.header.stamp, msg.header.frame_id = stamp(t), team
+    return msg
+
+
+def planned_path(msg: PlannedPath) -> list[Point]:
+    return [_point(p) for p in msg.points]
 
 
 # --- the world model's decision -----------------------------------------------------------------------

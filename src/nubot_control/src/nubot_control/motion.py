@@ -2,7 +2,8 @@
 
 Requires: own pose, a target pose (or waypoints), obstacles (team frame, m), the cycle time.
 Provides: ``MotionController.command`` / ``follow`` -> body-frame (Vx, Vy, w) for
-``nubot_common/VelCmd``, and ``MotionController.reference`` (where the robot should be now).
+``nubot_common/VelCmd``, ``MotionController.reference`` (where the robot should be now) and the plan
+being followed (``trajectory``, ``plan_age``, ``waypoints``, ``position``: what ``planned_path`` draws).
 Two trackers, chosen by ``MotionParams.tracker``:
 
 - ``mpc``: the path is planned (``path_planning``: subtargets around the obstacles, the goal
@@ -98,6 +99,7 @@ class MotionController:
         self.trajectory: Trajectory | None = None  # the plan being tracked (mpc), its time 0 is the last cycle
         self.reference: tuple[tuple[float, float], tuple[float, float]] | None = None  # (position, velocity) now
         self.compute_time = 0.0  # wall time of the last cycle's planning and tracking [s]
+        self.position: tuple[float, float] | None = None  # the robot at the last cycle, team frame [m]; None: no plan
         self._given: list[tuple[float, float]] = []  # the route asked for last cycle
         self._waypoints: list[tuple[float, float]] = []  # what remains of it
         self._plan_goals: list[tuple[float, float]] = []  # the route asked for when the plan was made
@@ -110,6 +112,7 @@ class MotionController:
     def reset(self) -> None:
         self.velocity, self.w = (0.0, 0.0), 0.0
         self.trajectory, self.reference, self._given, self._waypoints = None, None, [], []
+        self.position = None
         self._plan_goals, self._plan_limits, self._plan_age, self._plan_keepable = [], (0.0, 0.0), 0.0, False
 
     def command(self, me: Pose2D, target: Pose2D, obstacles: Sequence[tuple[float, ...]], dt: float,
@@ -127,6 +130,7 @@ class MotionController:
         """
         started = time.perf_counter()
         p = self.params
+        self.position = (me.x, me.y)
         limit = min(p.max_speed, speed_limit or p.max_speed, p.dribble_speed if holding else math.inf)
         accel = p.dribble_accel if holding else p.max_accel
         goals = [self.bounds.clamp(w) for w in waypoints]
@@ -146,6 +150,16 @@ class MotionController:
         self.compute_time = time.perf_counter() - started
         bx, by = rotate(vx, vy, -me.theta)
         return bx, by, self.w
+
+    @property
+    def plan_age(self) -> float:
+        """Time since the plan being tracked was made: the robot is at ``trajectory``'s time ``plan_age`` [s]."""
+        return self._plan_age
+
+    @property
+    def waypoints(self) -> tuple[tuple[float, float], ...]:
+        """What remains of the route being followed, the goal last (team frame [m]; empty: none)."""
+        return tuple(self._waypoints)
 
     # --- mpc: replan when the plan no longer holds, then track ---------------------------------
     def _obstacle_table(self, me: Pose2D, obstacles: Sequence[tuple[float, ...]]) -> list[tuple[float, float, float]]:
