@@ -3,8 +3,9 @@
 Modules: ``params`` (typed configuration), ``game`` (score, halves, clock and the
 commands in force: ``GameController``), ``referee`` (the MSL rules applied to
 snapshots of the simulated world: ``AutomaticReferee``), ``console`` (the coach
-CLI's argument parsing, prompt and text rendering) and ``conversions`` (messages
-to and from the core types; imports generated messages but no rospy).
+CLI's argument parsing, prompt and text rendering), ``refbox`` (the MSL RefBox protocol: commands to
+MatchModes, our worldstate, its validator), ``refbox_server`` (a practice RefBox) and ``conversions``
+(messages to and from the core types; imports generated messages but no rospy).
 """
 
 from nubot_common import NubotCommonError

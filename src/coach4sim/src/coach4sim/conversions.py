@@ -5,19 +5,22 @@ Provides: ``game_state_msg`` (GameState),
 ``score_view`` (GameState -> ``console.ScoreView``), ``world_from_model_states``
 (ModelStates -> ball centre and robot positions, world frame [m]), ``ball_placement``
 (a ModelState putting the ball at rest on the carpet) and ``watch_view``
-(WorldModelInfo + GameState -> ``console.WatchView``). CoachInfo and WorldModelInfo are
-``nubot_common.conversions``'.
+(WorldModelInfo + GameState -> ``console.WatchView``) and ``refbox_view`` (one robot's WorldModelInfo and
+StrategyInfo -> what the RefBox worldstate reports of it: ``refbox.RobotSnapshot``, ``refbox.BallSnapshot``,
+the opponents it sees). CoachInfo and WorldModelInfo are ``nubot_common.conversions``'.
 """
 
 from __future__ import annotations
 
 from coach4sim.console import ScoreView, WatchView
 from coach4sim.game import GameStateData
+from coach4sim.refbox import BallSnapshot, RobotSnapshot
 from nubot_common import NubotCommonError
 from nubot_common.conversions import stamp, world_state
-from nubot_common.msg import GameState, ModelState, ModelStates, WorldModelInfo
+from nubot_common.msg import GameState, ModelState, ModelStates, StrategyInfo, WorldModelInfo
 from nubot_common.naming import parse_robot_name
-from nubot_common.world_state import BallSource
+from nubot_common.team_play import Role
+from nubot_common.world_state import BallSource, ObstacleLabel
 
 
 def game_state_msg(state: GameStateData, t: float) -> GameState:
@@ -72,3 +75,29 @@ def watch_view(robot: str, wm: WorldModelInfo, state: GameState | None) -> Watch
         opponents=tuple((o.x, o.y) for o in world.opponents),
         mode=int(world.game.mode), previous=int(world.game.previous),
         score=score_view(state) if state is not None else None)
+
+
+def refbox_view(wm: WorldModelInfo, agent_id: int, strategy: StrategyInfo | None, battery_level: float
+                ) -> tuple[RobotSnapshot | None, BallSnapshot | None, list[tuple[float, float]]]:
+    """Robot ``agent_id`` as its own world model has it (None unless it is valid), the ball it believes in
+    (None if unknown) and the opponents it sees; team frame. Its intention is its strategy's role (the world
+    model's if no strategy is given), its target the world model's (none without a strategy), and it holds the
+    ball if either says so."""
+    try:
+        world = world_state(wm, agent_id)
+    except NubotCommonError:
+        return None, None, []
+    me = world.me
+    robot = None
+    if me.valid and me.report is not None:
+        r = me.report
+        role = Role.of(int(strategy.role)) if strategy is not None else r.role
+        holding = r.holding or (strategy is not None and bool(strategy.is_dribble))
+        target = r.target if strategy is not None else None  # without control, RobotInfo.target is unset
+        robot = RobotSnapshot(agent_id, r.pose.x, r.pose.y, r.pose.theta, r.vx, r.vy, r.w, target, role.name,
+                              holding, battery_level)
+    b = world.ball
+    ball = BallSnapshot(b.x, b.y, b.vx if b.velocity_known else 0.0, b.vy if b.velocity_known else 0.0,
+                        b.source == BallSource.OWN, b.stamp) if b.known else None
+    opponents = [(o.x, o.y) for o in world.obstacles if o.label == ObstacleLabel.OPPONENT]
+    return robot, ball, opponents
