@@ -1,0 +1,67 @@
+"""The match's viewing set-up, parsed (RViz is not installed here, so it is never started): match.launch runs
+match_markers and includes RViz with rviz:=true; match_rviz.launch starts match_markers only when asked (for a bag);
+the shipped RViz configuration shows the two marker topics and tf in the world frame; the bag leaves them out."""
+
+import re
+from pathlib import Path
+
+import pytest
+import yaml
+
+from nubot_common.params import load_yaml
+from sim_visual.markers import WORLD_FRAME, MatchMarkersParams
+
+PACKAGE = Path(__file__).resolve().parents[2]
+
+
+def launched(launch: str, *args: str) -> dict[str, tuple[str, str, dict]]:
+    """The nodes a launch file starts with ``args``: name -> (package, type, its private parameters)."""
+    import roslaunch.config
+    import roslaunch.xmlloader
+
+    config = roslaunch.config.ROSLaunchConfig()
+    roslaunch.xmlloader.XmlLoader().load(str(PACKAGE / "launch" / launch), config, argv=["roslaunch", *args],
+                                         verbose=False)
+    nodes = {}
+    for node in config.nodes:
+        private = {k.split("/", 2)[2]: p.value for k, p in config.params.items() if k.startswith(f"/{node.name}/")}
+        nodes[node.name] = (node.package, node.type, {"args": node.args, **private})
+    return nodes
+
+
+def test_every_match_runs_match_markers_and_rviz_only_when_asked():
+    nodes = launched("match.launch")
+    assert set(nodes) == {"sim_visual", "match_markers"}
+    package, kind, params = nodes["match_markers"]
+    assert (package, kind) == ("sim_visual", "match_markers")
+    assert MatchMarkersParams(params["tf_rate"], params["scene_rate"]) == load_yaml(
+        MatchMarkersParams, PACKAGE / "config" / "match_markers.yaml")
+    nodes = launched("match.launch", "rviz:=true")
+    assert set(nodes) == {"sim_visual", "match_markers", "rviz"}, "the match's own match_markers feeds RViz"
+    assert nodes["rviz"][:2] == ("rviz", "rviz")
+    assert nodes["rviz"][2]["args"] == f"-d {PACKAGE / 'config' / 'match.rviz'}"
+
+
+@pytest.mark.parametrize(("args", "nodes"), [((), {"rviz"}), (("markers:=true",), {"rviz", "match_markers"})])
+def test_match_rviz_starts_match_markers_for_a_bag_when_asked(args, nodes):
+    assert set(launched("match_rviz.launch", *args)) == nodes
+
+
+def test_the_rviz_configuration_shows_the_markers_and_tf_in_the_world_frame():
+    config = yaml.safe_load((PACKAGE / "config" / "match.rviz").read_text())["Visualization Manager"]
+    assert config["Global Options"]["Fixed Frame"] == WORLD_FRAME
+    displays = {d["Class"]: d for d in config["Displays"]}
+    assert {d.get("Marker Topic") for d in config["Displays"] if d["Class"] == "rviz/MarkerArray"} == \
+        {"/match_markers/field", "/match_markers/scene"}
+    assert displays["rviz/TF"]["Enabled"]
+
+
+def test_a_match_bag_leaves_tf_and_the_markers_out_and_keeps_what_makes_them():
+    from nubot_tools.ros.match_runner import UNRECORDED
+
+    left_out = re.compile(UNRECORDED)  # rosbag record -x matches the whole topic name
+    for topic in ("/tf", "/match_markers/field", "/match_markers/scene", "/nubot1/camera/image_raw"):
+        assert left_out.fullmatch(topic), topic
+    for topic in ("/sim_visual/model_states", "/referee/state", "/nubot1/nubotcontrol/path",
+                  "/sim_visual/world_description", "/rival3/nubotcontrol/targetinfo"):
+        assert not left_out.fullmatch(topic), topic
