@@ -1,0 +1,240 @@
+"""The match viewer's web server: one page that draws a match live or from a bag, and coaches it.
+
+Requires: a ``ViewerBackend`` (the live node's, over ROS topics, or the replay's, over a bag) and an address.
+Provides: ``ViewerServer``: GET ``/`` (the page), ``/static/...`` (its script and style; every asset is
+served from here, the page needs no internet) and the WebSocket ``/ws``. Over ``/ws`` the server sends a
+``hello`` (the field, the teams, the game commands, the replay's span and marks) and then ``frame`` messages
+at ``rate`` [Hz], each client at its own pace: a client still busy with the last frame skips one, so a slow
+or vanished browser costs nothing. The page sends JSON objects:
+
+- ``{"type": "command", "command": "<MatchMode name>", "team": "<prefix>", "token": "..."}``: a game command,
+  through the backend (the referee's ``/referee/command``, as ``rosrun coach4sim coach``);
+- ``{"type": "watch", "robot": "<name or empty>"}``: draw what that robot believes over the truth;
+- ``{"type": "replay", "action": "play" | "pause" | "seek" | "speed", "t": s, "speed": x}``: replay only.
+
+Anything malformed or unknown gets ``{"type": "error", "message": ...}``, is logged and changes nothing.
+Bound to 127.0.0.1 unless told otherwise; on any other address commands need a token (one is made when none
+is given), which the page takes from its address (``?token=...``) and presents with each command.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import hmac
+import ipaddress
+import json
+import secrets
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, Protocol
+
+import tornado.web
+import tornado.websocket
+
+from coach4sim import CoachError
+from nubot_common import NubotCommonError
+from nubot_common.match_mode import MatchMode, parse_match_mode
+
+ASSETS = Path(__file__).resolve().parent / "viewer_assets"
+MAX_MESSAGE = 16 * 1024  # the largest message a page may send [bytes]
+ROBOT_NAME_MAX = 64
+COMMANDS = [m for m in MatchMode if m != MatchMode.TEST]  # TEST needs a test mode's points: the console's
+
+
+class ViewerInputError(CoachError):
+    """A message from the page that the viewer cannot act on; the page gets the text."""
+
+
+class ViewerBackend(Protocol):
+    def hello(self) -> dict[str, Any]:
+        """The field, the teams and (replay) the span and marks."""
+
+    def frame(self, watch: str) -> str | None:
+        """The JSON text of the match now, with ``watch``'s world model; None before there is anything."""
+
+    def command(self, command: MatchMode, team: str) -> tuple[bool, str]:
+        """Send a game command for ``team``; (accepted, what was done or why not). May block (runs apart)."""
+
+    def control(self, message: dict[str, Any]) -> None:
+        """A replay control; raise ``ViewerInputError`` when it cannot be done."""
+
+
+def is_loopback(host: str) -> bool:
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def parse_page_message(text: str | bytes) -> dict[str, Any]:
+    """Decode one message of the page; raise ``ViewerInputError`` naming what is wrong."""
+    try:
+        message = json.loads(text)
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ViewerInputError(f"not JSON: {exc}") from None
+    if not isinstance(message, dict) or not isinstance(message.get("type"), str):
+        raise ViewerInputError('a message is a JSON object with a "type"')
+    kind = message["type"]
+    if kind == "command":
+        if not isinstance(message.get("command"), str) or not isinstance(message.get("team", ""), str):
+            raise ViewerInputError('a command needs "command" (a MatchMode name) and "team" (a team prefix)')
+        try:
+            mode = parse_match_mode(message["command"])
+        except (NubotCommonError, ValueError) as exc:
+            raise ViewerInputError(str(exc)) from None
+        if mode not in COMMANDS:
+            raise ViewerInputError(f"{mode.name} is not a command of the page (use rosrun coach4sim coach --console)")
+        message["mode"] = mode
+    elif kind == "watch":
+        robot = message.get("robot", "")
+        if not isinstance(robot, str) or len(robot) > ROBOT_NAME_MAX:
+            raise ViewerInputError('"robot" must be a robot name or empty')
+    elif kind == "replay":
+        if message.get("action") not in ("play", "pause", "seek", "speed"):
+            raise ViewerInputError('a replay control\'s "action" is play, pause, seek or speed')
+        for key in ("t", "speed"):
+            if key in message and (not isinstance(message[key], (int, float)) or isinstance(message[key], bool)
+                                   or message[key] != message[key] or abs(message[key]) == float("inf")):
+                raise ViewerInputError(f'"{key}" must be a finite number')
+    else:
+        raise ViewerInputError(f"unknown message type {kind!r} (command, watch or replay)")
+    return message
+
+
+class _Client(tornado.websocket.WebSocketHandler):
+    server: ViewerServer
+
+    def initialize(self, server: ViewerServer) -> None:
+        self.server = server
+        self.watch = ""
+        self.sending: Any = None  # the write in flight
+
+    def open(self, *args: str, **kwargs: str) -> None:
+        self.set_nodelay(True)
+        self.server.clients.add(self)
+        self.write_message(json.dumps({"type": "hello", **self.server.hello()}))
+
+    def on_close(self) -> None:
+        self.server.clients.discard(self)
+
+    async def on_message(self, text: str | bytes) -> None:
+        try:
+            message = parse_page_message(text)
+            reply = await self.server.handle(self, message)
+        except ViewerInputError as exc:
+            self.server.log(f"viewer: refused a message from {self.request.remote_ip}: {exc}")
+            reply = {"type": "error", "message": str(exc)}
+        if reply is not None and self.ws_connection is not None:
+            self.write_message(json.dumps(reply))
+
+    def push(self, text: str) -> bool:
+        """Send a frame unless the last one is still on its way; True when sent."""
+        if self.ws_connection is None or (self.sending is not None and not self.sending.done()):
+            return False
+        try:
+            self.sending = self.write_message(text)
+        except tornado.websocket.WebSocketClosedError:
+            return False
+        return True
+
+
+class _Page(tornado.web.RequestHandler):
+    def get(self) -> None:
+        self.set_header("Cache-Control", "no-store")
+        self.set_header("Content-Type", "text/html; charset=utf-8")
+        self.write((ASSETS / "index.html").read_bytes())
+
+
+class ViewerServer:
+    """Serves the page and streams frames; ``run`` until ``stop``."""
+
+    def __init__(self, backend: ViewerBackend, host: str = "127.0.0.1", port: int = 8080, token: str = "",
+                 rate: float = 25.0, log: Callable[[str], None] = print):
+        if not 1.0 <= rate <= 60.0:
+            raise CoachError(f"the viewer's frame rate must lie in [1, 60] Hz, got {rate}")
+        self.backend, self.host, self.port, self.rate, self.log = backend, host, port, rate, log
+        self.token = token or ("" if is_loopback(host) else secrets.token_urlsafe(12))
+        self.clients: set[_Client] = set()
+        self.frames_sent = 0
+        self.frames_skipped = 0
+        self._stop: asyncio.Event | None = None
+        self._hello: dict[str, Any] | None = None
+
+    @property
+    def url(self) -> str:
+        host = f"[{self.host}]" if ":" in self.host else self.host
+        return f"http://{host}:{self.port}/" + (f"?token={self.token}" if self.token else "")
+
+    def hello(self) -> dict[str, Any]:
+        return {**self.backend.hello(), "token_required": bool(self.token), "rate": self.rate,
+                "commands": [{"name": m.name, "value": int(m)} for m in COMMANDS]}
+
+    async def handle(self, client: _Client, message: dict[str, Any]) -> dict[str, Any] | None:
+        kind = message["type"]
+        if kind == "watch":
+            client.watch = message.get("robot", "")
+            return None
+        if kind == "replay":
+            self.backend.control(message)
+            return None
+        if self.token and not hmac.compare_digest(str(message.get("token", "")).encode(), self.token.encode()):
+            raise ViewerInputError("this viewer needs its token for commands (open the address it printed)")
+        mode, team = message["mode"], message.get("team", "")
+        loop = asyncio.get_running_loop()
+        accepted, text = await loop.run_in_executor(None, self.backend.command, mode, team)
+        self.log(f"viewer: {mode.name} for {team or 'the first team'}: {'done' if accepted else 'refused'}: {text}")
+        return {"type": "result", "ok": accepted, "command": mode.name, "team": team, "message": text}
+
+    def _tick(self) -> None:
+        texts: dict[str, str | None] = {}
+        for client in list(self.clients):
+            if client.watch not in texts:
+                texts[client.watch] = self.backend.frame(client.watch)
+            text = texts[client.watch]
+            if text is None:
+                continue
+            if client.push(text):
+                self.frames_sent += 1
+            else:
+                self.frames_skipped += 1
+
+    def application(self) -> tornado.web.Application:
+        return tornado.web.Application([
+            (r"/", _Page),
+            (r"/ws", _Client, {"server": self}),
+            (r"/static/(.*)", tornado.web.StaticFileHandler, {"path": str(ASSETS)}),
+        ], websocket_max_message_size=MAX_MESSAGE, websocket_ping_interval=10.0)
+
+    async def run(self, ready: Callable[[str], None] | None = None) -> None:
+        """Serve until ``stop``; ``ready(url)`` once listening. Raises ``CoachError`` when the port is taken."""
+        self._stop = asyncio.Event()
+        try:
+            http = self.application().listen(self.port, address=self.host, xheaders=False)
+        except OSError as exc:
+            raise CoachError(f"the viewer cannot listen on {self.host}:{self.port}: {exc.strerror}") from None
+        if self.port == 0:
+            self.port = next(iter(http._sockets.values())).getsockname()[1]
+        if ready is not None:
+            ready(self.url)
+        period = 1.0 / self.rate
+        next_tick = time.monotonic()
+        try:
+            while not self._stop.is_set():
+                self._tick()
+                next_tick = max(next_tick + period, time.monotonic())
+                try:
+                    await asyncio.wait_for(self._stop.wait(), next_tick - time.monotonic())
+                except TimeoutError:
+                    pass
+        finally:
+            http.stop()
+            for client in list(self.clients):
+                client.close()
+
+    def stop(self) -> None:
+        """End ``run`` (from the server's own loop)."""
+        if self._stop is not None:
+            self._stop.set()
