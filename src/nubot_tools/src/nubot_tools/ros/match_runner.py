@@ -65,7 +65,7 @@ class PerfMonitor:
     """Measures a running match: real-time factor, each robot's control rate, CPU and memory per node kind."""
 
     KINDS = ("sim_visual_node", "world_model_node", "nubot_control_node", "sim_interface", "referee", "record",
-             "rosmaster", "rosout")
+             "viewer", "rosmaster", "rosout")
 
     def __init__(self, robots: list[str], launched: list, rate: float = 33.0) -> None:
         import rospy
@@ -251,6 +251,22 @@ def wait_for_robots(names: list[str], timeout: float, stop: Callable[[], bool] =
     return sorted(set(names) - heard)
 
 
+def start_viewer(master: RosMaster, port: int, timeout: float = 20.0) -> Launched:
+    """Start the live page (``coach4sim viewer``) and print its address; a match goes on without it."""
+    import rospy
+
+    viewer = master.launch("viewer", ["rosrun", "coach4sim", "viewer", f"_port:={port}", "__name:=viewer"])
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and viewer.alive():
+        if rospy.has_param("/viewer/url"):
+            print(f"  watch it at {rospy.get_param('/viewer/url')}  (the live page and a coach)", flush=True)
+            return viewer
+        time.sleep(0.1)
+    why = viewer.log_text().strip().splitlines()[-1:] if not viewer.alive() else ["it did not start in time"]
+    print(f"  no live page: {why[0] if why else 'the viewer ended'}; the match goes on", flush=True)
+    return viewer
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--half-seconds", type=float, default=90.0, help="length of a half [s of game time]")
@@ -271,6 +287,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--vision", default="",
                         help="robots that see through the simulated omni camera instead of the simulator's percepts "
                              "(omni_vision): all, or names such as nubot1,nubot2; each costs a few ms of CPU a frame")
+    parser.add_argument("--viewer-port", type=int, default=8080,
+                        help="the live page's port on 127.0.0.1 (default 8080; 0: any free port; -1: no page)")
     args = parser.parse_args(argv)
     teams = args.team or [TEAMS / "nubot.yaml", TEAMS / "rival.yaml"]
     if len(teams) != 2:
@@ -310,6 +328,8 @@ def main(argv: list[str] | None = None) -> int:
                                     f"real_time_factor:={args.real_time_factor}", f"seed:={args.seed}",
                                     f"world:={world_path}", f"vision:={vision}"])
         rospy.wait_for_service("/sim_visual/spawn_model", timeout=60)
+        if args.viewer_port >= 0:
+            start_viewer(master, args.viewer_port)
         # A recorder that dies leaves match.bag.active: MatchRun.finish reindexes it into match.bag. What it
         # loses is the chunk it was filling: 256 KB, about 0.3 s of a 5 vs 5 match.
         recorder = master.launch("recorder", ["rosbag", "record", "-a", "-x", UNRECORDED, "--chunksize=256", "-O",
