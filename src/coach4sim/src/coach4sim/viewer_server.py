@@ -124,7 +124,7 @@ class _Client(tornado.websocket.WebSocketHandler):
         try:
             message = parse_page_message(text)
             reply = await self.server.handle(self, message)
-        except ViewerInputError as exc:
+        except CoachError as exc:  # ViewerInputError and the backend's refusals
             self.server.log(f"viewer: refused a message from {self.request.remote_ip}: {exc}")
             reply = {"type": "error", "message": str(exc)}
         if reply is not None and self.ws_connection is not None:

@@ -127,6 +127,10 @@ def load_timeline(bag: Path, rate: float = 20.0,
                     (scene.on_strategy if m["what"] == "strategy" else scene.on_path)(m["robot"], msg)
                 if progress is not None and done % 20000 == 0:
                     progress(done / total)
+            final = json.dumps(scene.frame(""), separators=(",", ":"))  # what came after the last model states
+            if timeline.frames and final != timeline.frames[-1]:
+                timeline.times.append(max(scene.t, timeline.times[-1]))
+                timeline.frames.append(final)
     except ReaderError as exc:
         raise MatchReportError(f"{bag} is not a readable ROS 1 bag: {exc}") from exc
     timeline.marks.sort(key=lambda k: k.t)
