@@ -81,7 +81,8 @@ def test_the_page_and_its_assets_are_served_and_frames_stream_at_the_rate():
         assert "new WebSocket" in script
         ws, hello = await connect(server)
         assert hello["type"] == "hello" and hello["field"]["length"] == 18.0 and not hello["token_required"]
-        assert "STOPROBOT" in {c["name"] for c in hello["commands"]} and "TEST" not in {c["name"] for c in hello["commands"]}
+        commands = {c["name"] for c in hello["commands"]}
+        assert "STOPROBOT" in commands and "DROPBALL" in commands and "TEST" not in commands
         start = loop.time()
         frames = [json.loads(await ws.read_message()) for _ in range(20)]
         elapsed = loop.time() - start
