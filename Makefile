@@ -12,8 +12,9 @@ MATCHES ?= 40
 SEED ?= 0
 SEEDS ?= 4
 VISION ?=
+VIEWER_PORT ?= 8080
 
-.PHONY: setup match demo evaluate test unit integration bench soak lint clean
+.PHONY: setup match demo replay evaluate test unit integration bench soak lint clean
 .PHONY: bench-faithfulness
 
 setup:
@@ -21,10 +22,15 @@ setup:
 
 match: setup
 	@$(ROS) python scripts/run_match.py --half-seconds $(HALF_SECONDS) --tracker $(TRACKER) --field $(FIELD) \
-	  --vision "$(VISION)"
+	  --vision "$(VISION)" --viewer-port $(VIEWER_PORT)
 
 demo: setup
 	@$(ROS) python scripts/run_demo.py --sim-seconds $(DEMO_SECONDS)
+
+# The live page over a recorded match: make replay BAG=matches/match-<time>/match.bag [PORT=8080]
+replay: setup
+	@test -n "$(BAG)" || { echo "make replay BAG=<a match bag>, e.g. matches/match-<time>/match.bag"; exit 2; }
+	@$(ROS) python scripts/replay.py "$(BAG)" --port $(or $(PORT),8080)
 
 # Many lockstep matches, HOME against AWAY, on every core (JOBS=N) or a dask cluster (SCHEDULER=tcp://host:8786):
 # evaluations/<time>/{results.json,table.md,goal_difference.png}. HOME is also the shell's home folder: only a
@@ -53,6 +59,7 @@ bench: setup
 	@$(ROS) python scripts/bench_vision.py --out bench/results
 	@$(ROS) python scripts/bench_team_link.py --out bench/results
 	@$(ROS) python scripts/bench_hwcontrol.py --out bench/results
+	@$(ROS) python scripts/bench_viewer.py --out bench/results
 
 # Lockstep against ROS on seeds 0..SEEDS-1, matches of 2 x HALF_SECONDS (the ROS ones at real time, on every core:
 # long, so not in bench): bench/results/faithfulness.{json,png}.
