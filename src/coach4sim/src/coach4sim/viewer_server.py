@@ -24,6 +24,7 @@ import hmac
 import ipaddress
 import json
 import secrets
+import socket
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -38,6 +39,7 @@ from nubot_common.match_mode import MatchMode, parse_match_mode
 
 ASSETS = Path(__file__).resolve().parent / "viewer_assets"
 MAX_MESSAGE = 16 * 1024  # the largest message a page may send [bytes]
+SEND_BUFFER = 16 * 1024  # the kernel's buffer towards each page [bytes] (it doubles it): a few frames at most
 ROBOT_NAME_MAX = 64
 COMMANDS = [m for m in MatchMode if m != MatchMode.TEST]  # TEST needs a test mode's points: the console's
 
@@ -114,6 +116,9 @@ class _Client(tornado.websocket.WebSocketHandler):
 
     def open(self, *args: str, **kwargs: str) -> None:
         self.set_nodelay(True)
+        stream = getattr(self.ws_connection, "stream", None)
+        if stream is not None and stream.socket is not None:  # a small send buffer: a slow page skips frames
+            stream.socket.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SEND_BUFFER)  # instead of lagging
         self.server.clients.add(self)
         self.write_message(json.dumps({"type": "hello", **self.server.hello()}))
 

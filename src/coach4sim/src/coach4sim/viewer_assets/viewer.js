@@ -14,7 +14,7 @@ let hello = null;
 let frame = null;
 let replay = null; // {t, playing, speed} of the last frame (replay mode)
 let sliderHeld = false;
-const stats = {frames: 0, fps: 0, moved: 0, commandsSent: 0, results: [], errors: []};
+const stats = {frames: 0, drawn: 0, fps: 0, moved: 0, commandsSent: 0, results: [], errors: []};
 window.viewerStats = stats; // read by the tests
 window.viewerFrame = () => frame;
 
@@ -71,11 +71,21 @@ function onFrame(message) {
   }
   frame = message;
   stats.frames += 1;
-  if (message.replay) { replay = message.replay; showReplay(); }
-  updateTeams(message.teams);
-  updateWatchList(message.robots);
-  showScore(message);
-  showEvents(message.referee.events);
+  if (!drawPending) {  // draw once per display refresh, the latest frame only: a slow page skips, never lags
+    drawPending = true;
+    requestAnimationFrame(show);
+  }
+}
+
+let drawPending = false;
+function show() {
+  drawPending = false;
+  stats.drawn += 1;
+  if (frame.replay) { replay = frame.replay; showReplay(); }
+  updateTeams(frame.teams);
+  updateWatchList(frame.robots);
+  showScore(frame);
+  showEvents(frame.referee.events);
   draw();
 }
 
@@ -260,8 +270,16 @@ function resize() {
   scale = Math.min(canvas.width / w, canvas.height / h);
   originX = canvas.width / 2;
   originY = canvas.height / 2;
+  fieldLayer = document.createElement("canvas");  // the markings change only with the size: drawn once
+  fieldLayer.width = canvas.width;
+  fieldLayer.height = canvas.height;
+  const c = fieldLayer.getContext("2d");
+  c.fillStyle = "#2e7d32";
+  c.fillRect(0, 0, canvas.width, canvas.height);
+  drawField(f, c);
   draw();
 }
+let fieldLayer = null;
 
 function px(x) { return originX + x * scale; }
 function py(y) { return originY - y * scale; }
@@ -269,10 +287,7 @@ function py(y) { return originY - y * scale; }
 function draw() {
   if (!hello) return;
   const f = hello.field;
-  ctx.clearRect(0, 0, canvas.width, canvas.height);
-  ctx.fillStyle = "#2e7d32";
-  ctx.fillRect(0, 0, canvas.width, canvas.height);
-  drawField(f);
+  if (fieldLayer) ctx.drawImage(fieldLayer, 0, 0);
   if (!frame) return;
   for (const robot of frame.robots) drawPlan(robot);
   for (const robot of frame.robots) drawRobot(robot, f);
@@ -280,40 +295,40 @@ function draw() {
   if (frame.belief) drawBelief(frame.belief, f);
 }
 
-function drawField(f) {
-  ctx.strokeStyle = "#ffffff";
-  ctx.lineWidth = Math.max(1, f.line_width * scale);
+function drawField(f, c) {
+  c.strokeStyle = "#ffffff";
+  c.lineWidth = Math.max(1, f.line_width * scale);
   for (const [[x0, y0], [x1, y1]] of f.segments) {
-    ctx.beginPath();
-    ctx.moveTo(px(x0), py(y0));
-    ctx.lineTo(px(x1), py(y1));
-    ctx.stroke();
+    c.beginPath();
+    c.moveTo(px(x0), py(y0));
+    c.lineTo(px(x1), py(y1));
+    c.stroke();
   }
   for (const a of f.arcs) {
-    ctx.beginPath();
-    ctx.arc(px(a.x), py(a.y), a.radius * scale, -a.end, -a.start);
-    ctx.stroke();
+    c.beginPath();
+    c.arc(px(a.x), py(a.y), a.radius * scale, -a.end, -a.start);
+    c.stroke();
   }
-  ctx.fillStyle = "#ffffff";
+  c.fillStyle = "#ffffff";
   for (const [x, y] of f.spots) {
-    ctx.beginPath();
-    ctx.arc(px(x), py(y), Math.max(2, f.spot_radius * scale), 0, 2 * Math.PI);
-    ctx.fill();
+    c.beginPath();
+    c.arc(px(x), py(y), Math.max(2, f.spot_radius * scale), 0, 2 * Math.PI);
+    c.fill();
   }
   for (const g of f.goals) {
     const [[x0, y0], [, y1]] = g.posts;
     const back = x0 + g.side * g.depth;
-    ctx.fillStyle = "rgba(255,255,255,0.18)";
-    ctx.fillRect(Math.min(px(x0), px(back)), Math.min(py(y0), py(y1)), Math.abs(px(back) - px(x0)),
+    c.fillStyle = "rgba(255,255,255,0.18)";
+    c.fillRect(Math.min(px(x0), px(back)), Math.min(py(y0), py(y1)), Math.abs(px(back) - px(x0)),
       Math.abs(py(y1) - py(y0)));
-    ctx.strokeStyle = "#e0e0e0";
-    ctx.lineWidth = 3;
-    ctx.beginPath();
-    ctx.moveTo(px(x0), py(y0));
-    ctx.lineTo(px(back), py(y0));
-    ctx.lineTo(px(back), py(y1));
-    ctx.lineTo(px(x0), py(y1));
-    ctx.stroke();
+    c.strokeStyle = "#e0e0e0";
+    c.lineWidth = 3;
+    c.beginPath();
+    c.moveTo(px(x0), py(y0));
+    c.lineTo(px(back), py(y0));
+    c.lineTo(px(back), py(y1));
+    c.lineTo(px(x0), py(y1));
+    c.stroke();
   }
 }
 
