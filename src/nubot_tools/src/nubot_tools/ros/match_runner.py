@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -267,7 +268,20 @@ def start_viewer(master: RosMaster, port: int, timeout: float = 20.0) -> Launche
     return viewer
 
 
+def _interrupt(_signum: int, _frame: object) -> None:
+    raise KeyboardInterrupt  # a kill ends the match as Ctrl-C does: every child of the master is stopped
+
+
 def main(argv: list[str] | None = None) -> int:
+    signal.signal(signal.SIGTERM, _interrupt)
+    try:
+        return play(argv)
+    except KeyboardInterrupt:
+        print("match interrupted: every node of the match is stopped", file=sys.stderr, flush=True)
+        return 130
+
+
+def play(argv: list[str] | None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--half-seconds", type=float, default=90.0, help="length of a half [s of game time]")
     parser.add_argument("--halves", type=int, default=2)
