@@ -66,7 +66,7 @@ class PerfMonitor:
     """Measures a running match: real-time factor, each robot's control rate, CPU and memory per node kind."""
 
     KINDS = ("sim_visual_node", "world_model_node", "nubot_control_node", "sim_interface", "referee", "record",
-             "viewer", "rosmaster", "rosout")
+             "viewer", "match_markers", "rosmaster", "rosout")
 
     def __init__(self, robots: list[str], launched: list, rate: float = 33.0) -> None:
         import rospy
