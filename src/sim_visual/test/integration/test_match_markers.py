@@ -210,7 +210,8 @@ def test_the_path_leads_from_the_robot_to_its_target(match, robot, attack):
     # distance still to go of the target (0.05 m + 10 %): the path ends there.
     assert math.dist(points[-1], target) < 0.05 + 0.1 * far + 0.05, f"the path ends at the target {target}: {points}"
     to_target = [math.dist(p, target) for p in points]
-    assert to_target[-1] == min(to_target)
+    # it leads there: it ends nearer than it starts, and no point is nearer than that kept plan's end allows
+    assert to_target[-1] < to_target[0] and to_target[-1] <= min(to_target) + 0.05 + 0.1 * far, to_target
 
 
 def test_the_field_and_the_scene_are_drawn(match):
