@@ -100,7 +100,10 @@ def play_match(job: MatchJob) -> MatchResult:
 
 
 def _quiet_worker() -> None:
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle: it stops the workers
+    # Ctrl-C is the parent's to handle: it stops the workers. The worker was forked with SIGINT blocked (see
+    # LocalRunner), so a Ctrl-C that reached it before this line is still pending and is dropped here.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 
 
 def _play_or_fail(job: MatchJob) -> tuple[MatchJob, MatchResult | None, str]:
@@ -116,8 +119,16 @@ class LocalRunner:
     def __init__(self, jobs: int):
         import multiprocessing
 
-        # fork: a spawned worker would import the two-line script as its main module and run it again
-        self.pool = multiprocessing.get_context("fork").Pool(jobs, initializer=_quiet_worker, maxtasksperchild=1)
+        # fork: a spawned worker would import the two-line script as its main module and run it again.
+        # The pool forks a new worker after every match from its own threads; they are made here with SIGINT
+        # blocked, so that a Ctrl-C arriving while a worker is being forked waits in the new worker until it
+        # ignores SIGINT, instead of interrupting Python's after-fork hooks there (a traceback on stderr).
+        previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            self.pool = multiprocessing.get_context("fork").Pool(jobs, initializer=_quiet_worker,
+                                                                 maxtasksperchild=1)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, previous)
         self.where = f"{jobs} worker process{'es' if jobs > 1 else ''} on this machine"
 
     def results(self, jobs: Sequence[MatchJob]) -> Iterator[tuple[MatchJob, MatchResult | None, str]]:
