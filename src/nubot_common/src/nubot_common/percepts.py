@@ -1,6 +1,7 @@
 """What a robot perceives of itself, the ball and other robots (the same from every percept provider).
 
-Provides: ``BallPercept`` (the ball as one robot's own sensors saw it), ``RobotReport`` (a robot's
+Provides: ``BallPercept`` (the ball as one robot's own sensors saw it, on the field plane),
+``Ball3dPercept`` (the ball in 3-D as an RGB-D camera sees it, with its flight), ``RobotReport`` (a robot's
 state as it reports it: self-localisation, motion, flags and its strategy fields; RobotInfo) and
 ``RobotView`` (one robot's percepts at one time: itself, the ball if seen, the robots it sees;
 an own vision frame or a teammate's packet). The simulator's noisy truth, omni_vision, front_vision
@@ -28,6 +29,33 @@ class BallPercept:
     @property
     def position(self) -> Point:
         return self.x, self.y
+
+
+@dataclass(frozen=True)
+class Ball3dPercept:
+    """The ball in 3-D (the goalie's RGB-D cameras, BallInfo3d): its centre and, once fitted, its velocity.
+
+    ``z`` is the height of the ball's centre above the ground (a ball on the ground: its radius). When
+    ``velocity_known``, (vx, vy, vz) is the slope at ``stamp`` of the parabola fitted to the recent track, so
+    ``nubot_common.ball_flight.landing`` gives where and when it comes down.
+    """
+
+    stamp: float  # time of the observation [s]
+    x: float  # [m]
+    y: float  # [m]
+    z: float  # [m]
+    vx: float = 0.0  # [m/s]
+    vy: float = 0.0  # [m/s]
+    vz: float = 0.0  # [m/s]
+    velocity_known: bool = False
+
+    @property
+    def position(self) -> Point:
+        return self.x, self.y
+
+    def on_ground(self) -> BallPercept:
+        """The same observation as a field-plane percept (its ground projection)."""
+        return BallPercept(self.stamp, self.x, self.y, self.vx, self.vy, self.velocity_known)
 
 
 @dataclass(frozen=True)

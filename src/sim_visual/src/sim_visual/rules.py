@@ -2,8 +2,8 @@
 
 Provides: ``clamp_command`` (body-frame velocity limits, NaN/inf rejected),
 ``dribble_condition``, ``held_ball_position``, ``ground_pass_velocity``,
-``lob_velocity`` and ``ballistic_landing`` (where a lob comes down). Inputs and
-outputs are world-frame, SI units.
+and ``lob_velocity`` (its flight: ``nubot_common.ball_flight``). Inputs and outputs are world-frame,
+SI units.
 """
 
 from __future__ import annotations
@@ -89,18 +89,3 @@ def lob_velocity(robot: Pose2D, ball_x: float, ball_y: float, attack: int, field
         scale = params.kick_max_speed / speed  # the kicker's limit wins; the lob falls short
         horizontal, vz = horizontal * scale, vz * scale
     return horizontal * cx, horizontal * cy, vz
-
-
-def ballistic_height_at(distance: float, horizontal_speed: float, vz: float, z0: float, gravity: float) -> float:
-    """Height [m] of a drag-free ball after travelling ``distance`` horizontally."""
-    t = distance / horizontal_speed
-    return z0 + vz * t + 0.5 * gravity * t * t
-
-
-def ballistic_landing(x: float, y: float, z: float, vx: float, vy: float, vz: float,
-                      ground_z: float, gravity: float) -> tuple[float, float, float]:
-    """Where and when (x, y, t) a drag-free ball starting at z comes down to ``ground_z``."""
-    a, b, c = 0.5 * gravity, vz, z - ground_z
-    disc = b * b - 4.0 * a * c
-    t = (-b - math.sqrt(max(disc, 0.0))) / (2.0 * a)
-    return x + vx * t, y + vy * t, t

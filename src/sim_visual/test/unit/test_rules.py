@@ -4,13 +4,12 @@ import math
 
 import pytest
 
+from nubot_common.ball_flight import height_at, landing
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D
 from sim_visual import SimVisualError
 from sim_visual.params import PluginParams
 from sim_visual.rules import (
-    ballistic_height_at,
-    ballistic_landing,
     clamp_command,
     dribble_condition,
     ground_pass_velocity,
@@ -89,7 +88,7 @@ def test_lob_crosses_the_goal_line_between_posts_under_the_bar(start_x, start_y,
     assert math.atan2(vy, vx) == pytest.approx(heading)
     horizontal = math.hypot(vx, vy)
     distance = (field.half_length - start_x) / math.cos(heading)
-    height = ballistic_height_at(distance, horizontal, vz, R, -9.8)
+    height = height_at(distance, horizontal, vz, R, -9.8)
     assert height + R == pytest.approx(field.goal_height - P.lob_bar_margin, abs=1e-6)
     y_at_line = start_y + vy / vx * (field.half_length - start_x)
     assert field.is_in_goal_mouth(y_at_line, height, R)
@@ -107,6 +106,6 @@ def test_lob_for_a_team_attacking_minus_x():
 def test_lob_away_from_the_goal_lands_at_the_default_distance():
     field = FieldGeometry()
     vx, vy, vz = lob_velocity(Pose2D(0.0, 0.0, math.pi), -0.43, 0.0, 1, field, R, -9.8, P)
-    x, y, t = ballistic_landing(-0.43, 0.0, R, vx, vy, vz, R, -9.8)
-    assert t > 0.0
-    assert math.hypot(x + 0.43, y) == pytest.approx(P.lob_default_distance)
+    down = landing(-0.43, 0.0, R, vx, vy, vz, R, -9.8)
+    assert down.t > 0.0
+    assert math.hypot(down.x + 0.43, down.y) == pytest.approx(P.lob_default_distance)
