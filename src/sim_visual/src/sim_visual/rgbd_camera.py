@@ -1,0 +1,259 @@
+"""The goalie's two simulated RGB-D cameras (Kinect 2 like): coloured point clouds by ray casting.
+
+Requires: the match's ``WorldDescription`` (field, goals, ball and robot bodies), ``RgbdCameraParams`` (the
+cameras' resolution, field of view, range, noise, missing returns, colours and their mounts on the robot,
+``kinect_ball.mount``) and, per frame, the true states of the robot, the ball and the other robots, the sim time
+and the sensors' generator. Provides: ``RgbdCameraRenderer.render`` -> one ``RgbdFrame`` per camera: an organised
+cloud (height x width x 3 float32 [m] in the camera's frame: x along the optical axis, y left, z up; NaN where
+there is no return) and its colours (height x width x 3 uint8 RGB).
+
+What is drawn: the ground (green carpet, white lines), the ball (an orange sphere, on the ground or in the air),
+the other robots (dark cylinders of the world's robot body) and the goals' posts and bars (white). Nets,
+arena walls and the own body are not drawn (no return). Ray casting uses rays precomputed per pixel (a pinhole
+grid) and rotated per frame, so a frame costs a few array operations per object over all pixels.
+
+The sensor: range limits on the depth along the optical axis (Kinect 2: 0.5-8 m); range noise along each ray
+with standard deviation ``depth_noise_constant + depth_noise_quadratic * depth^2`` (a few mm at 1 m, 2 cm at
+8 m); missing returns at random (``dropout``) and, more often, at depth edges (``edge_dropout`` where the depth
+jumps by more than ``edge_jump`` to a neighbour showing another surface or none: mixed pixels at an object's
+silhouette); colour noise per
+channel. Resolution: 128 x 106 by default, the Kinect 2's 512 x 424 depth image binned 4 x 4. A full-size cloud
+(217 k points, 3.5 MB at 30 Hz per camera) would cost the simulator node and kinect_ball 16 times as much per
+frame for little gain: the ball still spans about 4 x 4 points at 6 m and 8 x 8 at 3 m, enough for a sphere fit of
+the known radius.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from dataclasses import field as dc_field
+
+import numpy as np
+
+from kinect_ball.mount import CAMERAS, GOALIE_MOUNTS, CameraMount, RgbdMounts
+from nubot_common.params import require_non_negative, require_positive
+from nubot_common.world_description import WorldDescription
+from sim_visual.camera_params import RGB
+from sim_visual.world import BallState, RobotState
+
+NONE, GROUND, LINE, BALL, ROBOT, GOAL = range(6)  # what a pixel's ray hit first
+_FAR = 1e3  # [m] stands in for "no return" where depths are compared
+
+
+@dataclass(frozen=True)
+class RgbdCameraParams:
+    width: int = 128  # [px]
+    height: int = 106  # [px]
+    horizontal_fov_deg: float = 70.6  # [deg] (Kinect 2 depth camera)
+    vertical_fov_deg: float = 60.0  # [deg]
+    min_range: float = 0.5  # [m] depth along the optical axis
+    max_range: float = 8.0  # [m]
+    depth_noise_constant: float = 0.002  # [m] range noise std at zero depth
+    depth_noise_quadratic: float = 0.0003  # [1/m] ... growing with depth^2
+    dropout: float = 0.02  # share of returns missing at random
+    edge_jump: float = 0.15  # [m] a depth step at least this large to a neighbour on another surface: an edge
+    edge_dropout: float = 0.3  # share of edge pixels without a return
+    color_noise_std: float = 5.0  # [levels 0-255] per channel
+    carpet_rgb: RGB = (40, 130, 50)
+    line_rgb: RGB = (235, 235, 235)  # lines, posts and bars
+    ball_rgb: RGB = (245, 110, 20)
+    robot_rgb: RGB = (30, 30, 30)
+    mounts: RgbdMounts = dc_field(default_factory=lambda: GOALIE_MOUNTS)
+
+    def __post_init__(self) -> None:
+        for name in ("width", "height"):
+            if not 8 <= getattr(self, name) <= 1024:
+                raise ValueError(f"{name} must lie in [8, 1024] px, got {getattr(self, name)}")
+        for name in ("horizontal_fov_deg", "vertical_fov_deg"):
+            if not 1.0 <= getattr(self, name) <= 150.0:
+                raise ValueError(f"{name} must lie in [1, 150] deg, got {getattr(self, name)}")
+        require_positive(self, "max_range")
+        require_non_negative(self, "min_range", "depth_noise_constant", "depth_noise_quadratic", "color_noise_std")
+        if not self.min_range < self.max_range:
+            raise ValueError(f"min_range {self.min_range} must be below max_range {self.max_range}")
+        for name in ("dropout", "edge_dropout"):
+            if not 0.0 <= getattr(self, name) <= 1.0:
+                raise ValueError(f"{name} must lie in [0, 1], got {getattr(self, name)}")
+        require_positive(self, "edge_jump")
+        for name in ("carpet_rgb", "line_rgb", "ball_rgb", "robot_rgb"):
+            value = getattr(self, name)
+            if len(value) != 3 or not all(isinstance(c, int) and 0 <= c <= 255 for c in value):
+                raise ValueError(f"{name} must be three integers in [0, 255], got {value}")
+
+    def depth_noise(self, depth: np.ndarray | float) -> np.ndarray:
+        """Range noise std [m] at ``depth`` [m]."""
+        d = np.asarray(depth, dtype=float)
+        return self.depth_noise_constant + self.depth_noise_quadratic * d * d
+
+
+@dataclass(frozen=True)
+class RgbdFrame:
+    stamp: float  # sim time [s]
+    camera: str  # left or right
+    points: np.ndarray  # height x width x 3 float32 [m], camera frame; NaN: no return
+    rgb: np.ndarray  # height x width x 3 uint8
+    labels: np.ndarray  # height x width uint8: what each return shows (GROUND, LINE, BALL, ROBOT, GOAL; NONE: none)
+
+
+def pixel_rays(params: RgbdCameraParams) -> np.ndarray:
+    """Unit rays (height*width x 3) of a pinhole camera in its frame, row by row from the top left pixel."""
+    ty = math.tan(math.radians(params.horizontal_fov_deg) / 2.0)
+    tz = math.tan(math.radians(params.vertical_fov_deg) / 2.0)
+    u = (np.arange(params.width) + 0.5) / params.width
+    v = (np.arange(params.height) + 0.5) / params.height
+    yy, zz = np.meshgrid(ty * (1.0 - 2.0 * u), tz * (1.0 - 2.0 * v))
+    rays = np.stack([np.ones_like(yy), yy, zz], axis=-1).reshape(-1, 3)
+    return rays / np.linalg.norm(rays, axis=1, keepdims=True)
+
+
+def _vertical_cylinder(o: np.ndarray, d: np.ndarray, cx: float, cy: float, r: float, top: float) -> np.ndarray:
+    """Range along each ray (inf: missed) to the side or top of an upright cylinder on the ground."""
+    ox, oy = o[0] - cx, o[1] - cy
+    a = d[:, 0] ** 2 + d[:, 1] ** 2
+    b = 2.0 * (d[:, 0] * ox + d[:, 1] * oy)
+    c = ox * ox + oy * oy - r * r
+    disc = b * b - 4.0 * a * c
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = (-b - np.sqrt(disc)) / (2.0 * a)
+        z = o[2] + t * d[:, 2]
+        t = np.where((disc >= 0.0) & (t > 0.0) & (z >= 0.0) & (z <= top), t, np.inf)
+        if o[2] > top:  # the top disc, seen from above
+            tt = (top - o[2]) / d[:, 2]
+            px, py = ox + tt * d[:, 0], oy + tt * d[:, 1]
+            t = np.minimum(t, np.where((tt > 0.0) & (px * px + py * py <= r * r), tt, np.inf))
+    return t
+
+
+def _sphere(o: np.ndarray, d: np.ndarray, centre: np.ndarray, r: float) -> np.ndarray:
+    oc = o - centre
+    b = d @ oc
+    disc = b * b - (oc @ oc - r * r)
+    with np.errstate(invalid="ignore"):
+        t = -b - np.sqrt(disc)
+    return np.where((disc >= 0.0) & (t > 0.0), t, np.inf)
+
+
+def _bar(o: np.ndarray, d: np.ndarray, x: float, z: float, r: float, half: float) -> np.ndarray:
+    """Range to a horizontal bar along y (centre line at x, z, from -half to half)."""
+    ox, oz = o[0] - x, o[2] - z
+    a = d[:, 0] ** 2 + d[:, 2] ** 2
+    b = 2.0 * (d[:, 0] * ox + d[:, 2] * oz)
+    c = ox * ox + oz * oz - r * r
+    disc = b * b - 4.0 * a * c
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = (-b - np.sqrt(disc)) / (2.0 * a)
+        y = o[1] + t * d[:, 1]
+        return np.where((disc >= 0.0) & (t > 0.0) & (np.abs(y) <= half), t, np.inf)
+
+
+class RgbdCameraRenderer:
+    """Renders both cameras of a robot; built once per simulator (the rays and the field's lines)."""
+
+    def __init__(self, world: WorldDescription, params: RgbdCameraParams):
+        self.world, self.params = world, params
+        self.rays = pixel_rays(params)
+        f = world.field
+        self.segments = np.array(f.line_segments(), dtype=float)  # n x 2 x 2
+        self.arcs = f.arcs()
+        self.colors = np.zeros((6, 3), dtype=float)
+        for kind, rgb in ((GROUND, params.carpet_rgb), (LINE, params.line_rgb), (BALL, params.ball_rgb),
+                          (ROBOT, params.robot_rgb), (GOAL, params.line_rgb)):
+            self.colors[kind] = rgb
+
+    def render(self, me: RobotState, ball: BallState, others: Sequence[RobotState], t: float,
+               rng: np.random.Generator) -> tuple[RgbdFrame, RgbdFrame]:
+        """Both cameras' frames (left, right) of robot ``me`` at sim time ``t`` [s]."""
+        left, right = (self.render_camera(name, self.params.mounts.by_name(name), me, ball, others, t, rng)
+                       for name in CAMERAS)
+        return left, right
+
+    def render_camera(self, name: str, mount: CameraMount, me: RobotState, ball: BallState,
+                      others: Sequence[RobotState], t: float, rng: np.random.Generator) -> RgbdFrame:
+        p, world = self.params, self.world
+        c, s = math.cos(me.theta), math.sin(me.theta)
+        heading = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        rotation = heading @ mount.rotation()
+        o = np.array([me.x, me.y, 0.0]) + heading @ mount.offset
+        d = self.rays @ rotation.T
+        reach = p.max_range / max(float(self.rays[:, 0].min()), 1e-6)  # the farthest range a return can have
+        rng_t = np.full(len(d), np.inf)
+        kind = np.zeros(len(d), dtype=np.uint8)
+
+        def hit(t_new: np.ndarray, what: int) -> None:
+            closer = t_new < rng_t
+            rng_t[closer] = t_new[closer]
+            kind[closer] = what
+
+        with np.errstate(divide="ignore", invalid="ignore"):
+            hit(np.where(d[:, 2] < 0.0, -o[2] / d[:, 2], np.inf), GROUND)
+        body = world.robot
+        for other in others:
+            if math.hypot(other.x - o[0], other.y - o[1]) <= reach + body.radius:
+                hit(_vertical_cylinder(o, d, other.x, other.y, body.radius, body.height), ROBOT)
+        f = world.field
+        for side in (-1, 1):
+            posts = f.goal_posts(side)
+            if math.hypot(posts[0][0] - o[0], o[1]) > reach + f.goal_width:
+                continue
+            for px, py in posts:
+                hit(_vertical_cylinder(o, d, px, py, f.post_radius, f.goal_height), GOAL)
+            hit(_bar(o, d, side * (f.half_length + f.post_radius), f.goal_height + f.post_radius, f.post_radius,
+                     f.goal_width / 2.0 + 2.0 * f.post_radius), GOAL)
+        centre = np.array([ball.x, ball.y, ball.z])
+        if np.linalg.norm(centre - o) <= reach + world.ball.radius:
+            hit(_sphere(o, d, centre, world.ball.radius), BALL)
+        self._mark_lines(o, d, rng_t, kind)
+        return self._sense(name, t, rng_t, kind, rng)
+
+    def _mark_lines(self, o: np.ndarray, d: np.ndarray, rng_t: np.ndarray, kind: np.ndarray) -> None:
+        ground = np.flatnonzero((kind == GROUND) & (rng_t * self.rays[:, 0] <= self.params.max_range))
+        if len(ground) == 0:
+            return
+        gx = o[0] + rng_t[ground] * d[ground, 0]
+        gy = o[1] + rng_t[ground] * d[ground, 1]
+        half = self.world.field.line_width / 2.0
+        white = np.zeros(len(ground), dtype=bool)
+        a, b = self.segments[:, 0, :], self.segments[:, 1, :]
+        ab = b - a
+        length2 = np.maximum((ab * ab).sum(axis=1), 1e-12)
+        for k in range(len(ab)):
+            u = np.clip(((gx - a[k, 0]) * ab[k, 0] + (gy - a[k, 1]) * ab[k, 1]) / length2[k], 0.0, 1.0)
+            white |= np.hypot(gx - a[k, 0] - u * ab[k, 0], gy - a[k, 1] - u * ab[k, 1]) <= half
+        for arc in self.arcs:
+            rx, ry = gx - arc.x, gy - arc.y
+            near = np.abs(np.hypot(rx, ry) - arc.radius) <= half
+            angle = np.mod(np.arctan2(ry, rx) - arc.start, 2.0 * math.pi)
+            white |= near & (angle <= arc.end - arc.start + 1e-9)
+        kind[ground[white]] = LINE
+
+    def _sense(self, name: str, t: float, rng_t: np.ndarray, kind: np.ndarray,
+               rng: np.random.Generator) -> RgbdFrame:
+        p = self.params
+        depth = rng_t * self.rays[:, 0]
+        valid = (depth >= p.min_range) & (depth <= p.max_range)
+        image = np.where(valid, depth, _FAR).reshape(p.height, p.width)
+        surface = np.where(valid & (kind != LINE), kind, np.where(valid, GROUND, NONE)).reshape(image.shape)
+        edge = np.zeros(image.shape, dtype=bool)
+        # An edge: the neighbour shows another surface (or none) at a clearly different depth; the far ground's
+        # steep depth gradient at grazing angles is no edge
+        jump_x = (np.abs(np.diff(image, axis=1)) > p.edge_jump) & (np.diff(surface, axis=1) != 0)
+        jump_y = (np.abs(np.diff(image, axis=0)) > p.edge_jump) & (np.diff(surface, axis=0) != 0)
+        edge[:, 1:] |= jump_x
+        edge[:, :-1] |= jump_x
+        edge[1:, :] |= jump_y
+        edge[:-1, :] |= jump_y
+        draws = rng.random(len(depth))
+        missing = (draws < p.dropout) | (edge.reshape(-1) & (draws < p.dropout + p.edge_dropout))
+        valid &= ~missing
+        idx = np.flatnonzero(valid)
+        noisy = rng_t[idx] + rng.normal(0.0, 1.0, len(idx)) * p.depth_noise(depth[idx])
+        points = np.full((len(depth), 3), np.nan, dtype=np.float32)
+        points[idx] = self.rays[idx] * noisy[:, None]
+        rgb = np.zeros((len(depth), 3), dtype=np.uint8)
+        colors = self.colors[kind[idx]] + rng.normal(0.0, p.color_noise_std, (len(idx), 3))
+        rgb[idx] = np.clip(np.rint(colors), 0, 255).astype(np.uint8)
+        shape = (p.height, p.width)
+        return RgbdFrame(t, name, points.reshape(*shape, 3), rgb.reshape(*shape, 3),
+                         np.where(valid, kind, NONE).reshape(shape).astype(np.uint8))
