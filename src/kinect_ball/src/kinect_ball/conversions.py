@@ -84,7 +84,9 @@ def cloud_from_msg(msg: Any) -> Cloud:
     if data.size < height * row_step:
         raise KinectBallError(f"a cloud of {width} x {height} points needs {height * row_step} B, got {data.size}")
     rows = data[:height * row_step].reshape(height, row_step)[:, :width * step]
-    records = np.ascontiguousarray(rows).view(np.dtype(layout)).reshape(-1)
+    record = np.dtype({"names": layout["names"], "formats": layout["formats"], "offsets": layout["offsets"],
+                       "itemsize": step})
+    records = np.ascontiguousarray(rows).view(record).reshape(-1)
     points = np.stack([records["x"], records["y"], records["z"]], axis=1).astype(float)
     packed = records["rgb"]
     rgb = np.stack([(packed >> 16) & 0xFF, (packed >> 8) & 0xFF, packed & 0xFF], axis=1).astype(np.uint8)

@@ -1,0 +1,53 @@
+"""kinect_ball's launch files, parsed (nothing started): robot.launch starts it for the goalie seeing through its
+cameras only, with the shipped parameters, which load into KinectBallParams."""
+
+from pathlib import Path
+
+import pytest
+
+from kinect_ball.pipeline import KinectBallParams
+from nubot_common.params import from_mapping, load_yaml
+
+SRC = Path(__file__).resolve().parents[3]
+
+
+def launched(launch: Path, *args: str) -> dict[str, dict]:
+    """The nodes a launch file starts with ``args``: namespaced name -> its private parameters and remappings."""
+    import roslaunch.config
+    import roslaunch.xmlloader
+
+    config = roslaunch.config.ROSLaunchConfig()
+    roslaunch.xmlloader.XmlLoader().load(str(launch), config, argv=["roslaunch", *args], verbose=False)
+    nodes = {}
+    for node in config.nodes:
+        name = f"{node.namespace.rstrip('/')}/{node.name}"
+        private = {k[len(name) + 1:]: p.value for k, p in config.params.items() if k.startswith(name + "/")}
+        nodes[name] = {"package": node.package, "remap": dict(node.remap_args), **private}
+    return nodes
+
+
+@pytest.mark.parametrize("robot, goalie_id, perception, started", [
+    ("nubot1", "1", "vision", True), ("nubot2", "1", "vision", False), ("rival3", "3", "vision", True),
+    ("nubot1", "1", "truth", False), ("nubot11", "1", "vision", False),
+])
+def test_robot_launch_starts_kinect_ball_for_the_goalie_seeing_through_its_cameras(robot, goalie_id, perception,
+                                                                                   started):
+    nodes = launched(SRC / "nubot_control" / "launch" / "robot.launch", f"robot:={robot}",
+                     f"goalie_id:={goalie_id}", f"perception:={perception}")
+    assert (f"/{robot}/kinect_ball" in nodes) == started
+
+
+def test_the_node_gets_the_shipped_parameters_and_its_pose_topic():
+    nodes = launched(SRC / "kinect_ball" / "launch" / "kinect_ball.launch", "robot:=nubot1")
+    node = nodes["/nubot1/kinect_ball"]
+    assert node["robot"] == "nubot1" and node["remap"]["pose"] == "/nubot1/omnivision/OmniVisionInfo"
+    shipped = load_yaml(KinectBallParams, SRC / "kinect_ball" / "config" / "kinect_ball.yaml")
+    own: dict = {}
+    for key, value in node.items():
+        if key not in ("robot", "remap", "package"):
+            *path, leaf = key.split("/")
+            branch = own
+            for part in path:
+                branch = branch.setdefault(part, {})
+            branch[leaf] = value
+    assert from_mapping(KinectBallParams, own) == shipped == KinectBallParams(), "the YAML states the defaults"
