@@ -103,3 +103,12 @@ def test_parameters_are_checked():
         RgbdCameraParams(min_range=9.0)
     with pytest.raises(ValueError, match="width must lie in"):
         RgbdCameraParams(width=4)
+
+
+def test_rendering_the_rgbd_cameras_draws_nothing_from_the_other_sensors_generator():
+    """The simulator node renders the clouds only while someone listens: that must not change the omni camera's,
+    the odometry's or the inertial sensor's noise."""
+    config = SimConfig(robots=(RobotSpawn("nubot1", -8.0, 0.0, 0.0, 1),), seed=2)
+    sim, other = Simulator(config), Simulator(config)
+    sim.rgbd_frames("nubot1")
+    assert sim.sensors.rng.bit_generator.state == other.sensors.rng.bit_generator.state
