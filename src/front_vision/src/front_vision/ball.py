@@ -1,0 +1,184 @@
+"""The ball in the front camera's image and where it lies relative to the robot (chapter 4.2).
+
+Requires: an RGB frame (uint8, the camera's size), omni_vision's calibrated ``ColorTable`` (one colour concept
+for every camera) and the calibrated ``PinholeCamera``. Provides ``BallLocator.locate(rgb) -> BallSighting``
+and ``BallParams`` (frozen, validated).
+
+Colour segmentation: the pixels of a grid every ``seed_step`` px are classified with the table; 8-connected
+groups of BALL cells are candidates (the ``max_candidates`` largest). Region growing (OpenCV's flood fill)
+starts at each candidate's seed pixel nearest its centre and takes the 8-connected BALL pixels of the
+full-resolution classes in a window around the candidate (its seed cells' box plus ``window_margin``).
+A region touching the image border (within ``border_margin``) is a ball partly out of view: its position is
+not known. The region's boundary pixels, undistorted into rays, are the rim of the cone of rays tangent to
+the sphere: the least-squares solution w of r_i . w = 1 gives the cone's axis w/|w| (the ray through the
+ball's centre, free of the perspective shift a blob's centroid has) and its half-angle acos(1/|w|). The
+centre's ray meets the plane z = ``ball_radius`` (a ball on the ground) at the ball's position in the body
+frame. Checks: the region's boundary against the cone's rim (``max_rim_error``: a round region), its area
+against the cone's (``area_ratio_range``), and the height of the centre the
+cone's angle gives (distance = radius / sin(half-angle)) against the radius (``max_height_error``): a ball in
+the air would be projected to a wrong place, so it is reported as not known.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import Enum
+
+import cv2
+import numpy as np
+
+from front_vision import FrontVisionError
+from front_vision.camera_model import PinholeCamera
+from omni_vision.colors import ColorClass, ColorTable
+
+
+class Sighting(Enum):
+    SEEN = "seen"  # on the ground, wholly in view: the position is known
+    NOT_SEEN = "not seen"  # no ball-coloured region
+    OUT_OF_VIEW = "partly out of view"  # the region touches the image border
+    IMPLAUSIBLE = "implausible"  # a region whose shape or height is no ball on the ground
+
+
+@dataclass(frozen=True)
+class BallParams:
+    ball_radius: float = 0.11  # [m]
+    seed_step: int = 2  # [px] the grid of pixels classified for seeds
+    max_candidates: int = 3  # the largest seed groups grown
+    min_pixels: int = 20  # a smaller region is noise
+    window_margin: int = 4  # [px] beyond a candidate's seed cells, where its region may grow
+    border_margin: int = 1  # [px] a region this near the image border is partly out of view
+    area_ratio_range: tuple[float, float] = (0.6, 1.5)  # region's area / the area of the fitted cone's image
+    max_height_error: float = 0.15  # [m] the cone's centre height minus the radius, at most
+    max_rim_error: float = 1.5  # [px] RMS distance of the region's boundary from the fitted cone's rim
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.ball_radius) and 0.01 <= self.ball_radius <= 1.0):
+            raise FrontVisionError(f"ball_radius must be in [0.01, 1] m, got {self.ball_radius}")
+        for name, low, high in (("seed_step", 1, 16), ("max_candidates", 1, 20), ("min_pixels", 3, 100000),
+                                ("window_margin", 0, 64), ("border_margin", 0, 50)):
+            value = getattr(self, name)
+            if not (isinstance(value, int) and low <= value <= high):
+                raise FrontVisionError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+        ratio_low, ratio_high = self.area_ratio_range
+        if not (len(self.area_ratio_range) == 2 and 0.0 < ratio_low < 1.0 < ratio_high < 10.0):
+            raise FrontVisionError(f"area_ratio_range must be (low < 1 < high), got {self.area_ratio_range}")
+        for name in ("max_height_error", "max_rim_error"):
+            if not (math.isfinite(getattr(self, name)) and getattr(self, name) > 0.0):
+                raise FrontVisionError(f"{name} must be positive, got {getattr(self, name)}")
+
+
+@dataclass(frozen=True)
+class BallSighting:
+    """What one frame says about the ball: ``sighting``; when SEEN, its centre (x, y) [m] in the robot's body
+    frame; ``pixel``: the image point of its centre's ray (u, v) [px] when a region was fitted."""
+
+    sighting: Sighting
+    x: float = math.nan  # [m] body frame
+    y: float = math.nan  # [m]
+    pixel: tuple[float, float] | None = None
+    pixels: int = 0  # the region's size [px]
+
+    @property
+    def known(self) -> bool:
+        return self.sighting is Sighting.SEEN
+
+
+@dataclass(frozen=True)
+class ConeFit:
+    """The cone of rays tangent to a sphere, from its rim's rays (camera frame)."""
+
+    axis: np.ndarray  # unit vector, camera frame
+    half_angle: float  # [rad]
+
+
+def fit_tangent_cone(rays: np.ndarray) -> ConeFit | None:
+    """The cone whose rim passes closest to the unit ``rays`` (N x 3): r . w = 1 in least squares; None when
+    the rays do not span one (fewer than 3, degenerate)."""
+    if len(rays) < 3:
+        return None
+    w, *_ = np.linalg.lstsq(rays, np.ones(len(rays)), rcond=None)
+    norm = float(np.linalg.norm(w))
+    if not (math.isfinite(norm) and norm > 1.0):
+        return None
+    return ConeFit(w / norm, math.acos(1.0 / norm))
+
+
+class BallLocator:
+    """Finds the ball in front-camera frames of one camera."""
+
+    def __init__(self, camera: PinholeCamera, table: ColorTable, params: BallParams | None = None):
+        self.camera, self.table = camera, table
+        self.params = params if params is not None else BallParams()
+
+    def locate(self, rgb: np.ndarray) -> BallSighting:
+        """The ball in ``rgb`` (uint8, camera.height x camera.width x 3; checked by the caller)."""
+        p = self.params
+        step = p.seed_step
+        seeds = (self.table.classify_rgb(rgb[::step, ::step]) == ColorClass.BALL).astype(np.uint8)
+        count, labels, stats, centroids = cv2.connectedComponentsWithStats(seeds, connectivity=8)
+        if count <= 1:
+            return BallSighting(Sighting.NOT_SEEN)
+        order = 1 + np.argsort(-stats[1:, cv2.CC_STAT_AREA], kind="stable")[:p.max_candidates]
+        best: BallSighting | None = None
+        for k in order:
+            sighting = self._grow(rgb, labels == k, stats[k], centroids[k])
+            if sighting is None:
+                continue
+            if best is None or _rank(sighting) > _rank(best):
+                best = sighting
+        return best if best is not None else BallSighting(Sighting.NOT_SEEN)
+
+    def _grow(self, rgb: np.ndarray, cells: np.ndarray, stats: np.ndarray, centroid: np.ndarray) -> BallSighting | None:
+        """The region grown from one candidate's seed ``cells`` (bool, seed grid), their box ``stats`` and centre."""
+        p, cam, step = self.params, self.camera, self.params.seed_step
+        rows, cols = np.nonzero(cells)
+        nearest = int(np.argmin((rows - centroid[1]) ** 2 + (cols - centroid[0]) ** 2))
+        seed = (int(cols[nearest]) * step, int(rows[nearest]) * step)
+        # The window the candidate's region can reach: its seed cells' box, grown by a seed step and the margin.
+        x, y, w, h = (int(v) for v in stats[:4])
+        pad = step + p.window_margin
+        u0, v0 = max(x * step - pad, 0), max(y * step - pad, 0)
+        u1, v1 = min((x + w) * step + pad, cam.width), min((y + h) * step + pad, cam.height)
+        classes = self.table.classify_rgb(rgb[v0:v1, u0:u1])
+        mask = np.zeros((v1 - v0 + 2, u1 - u0 + 2), np.uint8)
+        area, _, _, rect = cv2.floodFill(classes, mask, (seed[0] - u0, seed[1] - v0), 0, 0, 0,
+                                         8 | cv2.FLOODFILL_MASK_ONLY | cv2.FLOODFILL_FIXED_RANGE | (1 << 8))
+        if classes[seed[1] - v0, seed[0] - u0] != ColorClass.BALL:
+            return None
+        x0, y0, w, h = rect
+        region = mask[1 + y0:1 + y0 + h, 1 + x0:1 + x0 + w]
+        x0, y0 = x0 + u0, y0 + v0
+        if area < p.min_pixels:
+            return None
+        m = p.border_margin
+        if x0 < m or y0 < m or x0 + w > cam.width - m or y0 + h > cam.height - m:
+            return BallSighting(Sighting.OUT_OF_VIEW, pixels=int(area))
+        contours, _ = cv2.findContours(region, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+        rim = np.concatenate([c.reshape(-1, 2) for c in contours]).astype(np.float64) + (x0, y0)
+        xy = cam.normalized(rim)
+        rays = np.column_stack([xy, np.ones(len(xy))])
+        rays /= np.linalg.norm(rays, axis=1, keepdims=True)
+        cone = fit_tangent_cone(rays)
+        if cone is None:
+            return BallSighting(Sighting.IMPLAUSIBLE, pixels=int(area))
+        axis_body = cam.rotation @ cone.axis
+        centre_pixel, _ = cam.project(cam.origin + axis_body)
+        pixel = (float(centre_pixel[0, 0]), float(centre_pixel[0, 1]))
+        # The region's area against the cone's image (its solid angle in pixels near the centre's ray).
+        cone_area = math.pi * math.tan(cone.half_angle) ** 2 / (cone.axis[2] ** 3) / cam.angle_per_pixel ** 2
+        low, high = p.area_ratio_range
+        rim_error = np.sqrt(np.mean((np.arccos(np.clip(rays @ cone.axis, -1.0, 1.0)) - cone.half_angle) ** 2))
+        if not low <= area / max(cone_area, 1e-9) <= high or rim_error > p.max_rim_error * cam.angle_per_pixel:
+            return BallSighting(Sighting.IMPLAUSIBLE, pixel=pixel, pixels=int(area))
+        height = cam.origin[2] + axis_body[2] * p.ball_radius / max(math.sin(cone.half_angle), 1e-9)
+        ground = cam.ray_plane_points(axis_body[None, :], p.ball_radius)[0]
+        if abs(height - p.ball_radius) > p.max_height_error or not np.all(np.isfinite(ground)):
+            return BallSighting(Sighting.IMPLAUSIBLE, pixel=pixel, pixels=int(area))
+        return BallSighting(Sighting.SEEN, float(ground[0]), float(ground[1]), pixel, int(area))
+
+
+def _rank(s: BallSighting) -> tuple[int, int]:
+    """Better sightings first: a known ball, then one partly out of view, then the larger region."""
+    order = {Sighting.SEEN: 3, Sighting.OUT_OF_VIEW: 2, Sighting.IMPLAUSIBLE: 1, Sighting.NOT_SEEN: 0}
+    return order[s.sighting], s.pixels
