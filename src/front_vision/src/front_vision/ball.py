@@ -6,8 +6,10 @@ and ``BallParams`` (frozen, validated).
 
 Colour segmentation: the pixels of a grid every ``seed_step`` px are classified with the table; 8-connected
 groups of BALL cells are candidates (the ``max_candidates`` largest). Region growing (OpenCV's flood fill)
-starts at each candidate's seed pixel nearest its centre and takes the 8-connected BALL pixels of the
-full-resolution classes in a window around the candidate (its seed cells' box plus ``window_margin``).
+starts at each candidate's seed pixel nearest its centre, in a window around the candidate (its seed cells' box
+plus ``window_margin``), and takes the 8-connected neighbours whose colour differs by at most
+``grow_tolerance`` grey levels per channel from the pixel it grows from, never pixels the table calls carpet,
+line or robot: so the ball's shaded underside, which the table may not know (UNKNOWN), joins the region.
 A region touching the image border (within ``border_margin``) is a ball partly out of view: its position is
 not known. The region's boundary pixels, undistorted into rays, are the rim of the cone of rays tangent to
 the sphere: the least-squares solution w of r_i . w = 1 gives the cone's axis w/|w| (the ray through the
@@ -32,6 +34,8 @@ from front_vision import FrontVisionError
 from front_vision.camera_model import PinholeCamera
 from omni_vision.colors import ColorClass, ColorTable
 
+_REGION = 2  # the flood fill's mark of the grown region (1: pixels that stop it)
+
 
 class Sighting(Enum):
     SEEN = "seen"  # on the ground, wholly in view: the position is known
@@ -47,6 +51,7 @@ class BallParams:
     max_candidates: int = 3  # the largest seed groups grown
     min_pixels: int = 20  # a smaller region is noise
     window_margin: int = 4  # [px] beyond a candidate's seed cells, where its region may grow
+    grow_tolerance: int = 16  # [grey levels] per channel between neighbouring pixels of a region
     border_margin: int = 1  # [px] a region this near the image border is partly out of view
     area_ratio_range: tuple[float, float] = (0.6, 1.5)  # region's area / the area of the fitted cone's image
     max_height_error: float = 0.15  # [m] the cone's centre height minus the radius, at most
@@ -56,7 +61,7 @@ class BallParams:
         if not (math.isfinite(self.ball_radius) and 0.01 <= self.ball_radius <= 1.0):
             raise FrontVisionError(f"ball_radius must be in [0.01, 1] m, got {self.ball_radius}")
         for name, low, high in (("seed_step", 1, 16), ("max_candidates", 1, 20), ("min_pixels", 3, 100000),
-                                ("window_margin", 0, 64), ("border_margin", 0, 50)):
+                                ("window_margin", 0, 64), ("grow_tolerance", 0, 255), ("border_margin", 0, 50)):
             value = getattr(self, name)
             if not (isinstance(value, int) and low <= value <= high):
                 raise FrontVisionError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
@@ -140,14 +145,18 @@ class BallLocator:
         pad = step + p.window_margin
         u0, v0 = max(x * step - pad, 0), max(y * step - pad, 0)
         u1, v1 = min((x + w) * step + pad, cam.width), min((y + h) * step + pad, cam.height)
-        classes = self.table.classify_rgb(rgb[v0:v1, u0:u1])
-        mask = np.zeros((v1 - v0 + 2, u1 - u0 + 2), np.uint8)
-        area, _, _, rect = cv2.floodFill(classes, mask, (seed[0] - u0, seed[1] - v0), 0, 0, 0,
-                                         8 | cv2.FLOODFILL_MASK_ONLY | cv2.FLOODFILL_FIXED_RANGE | (1 << 8))
+        window = np.ascontiguousarray(rgb[v0:v1, u0:u1])
+        classes = self.table.classify_rgb(window)
         if classes[seed[1] - v0, seed[0] - u0] != ColorClass.BALL:
             return None
+        # Pixels of the carpet, the lines and the robots stop the growth (mask 1); the region is marked 2.
+        mask = np.ones((v1 - v0 + 2, u1 - u0 + 2), np.uint8)
+        mask[1:-1, 1:-1] = (classes == ColorClass.GREEN) | (classes == ColorClass.WHITE) | (classes == ColorClass.BLACK)
+        tol = (p.grow_tolerance,) * 3
+        area, _, _, rect = cv2.floodFill(window, mask, (seed[0] - u0, seed[1] - v0), (0, 0, 0), tol, tol,
+                                         8 | cv2.FLOODFILL_MASK_ONLY | (_REGION << 8))
         x0, y0, w, h = rect
-        region = mask[1 + y0:1 + y0 + h, 1 + x0:1 + x0 + w]
+        region = (mask[1 + y0:1 + y0 + h, 1 + x0:1 + x0 + w] == _REGION).astype(np.uint8)
         x0, y0 = x0 + u0, y0 + v0
         if area < p.min_pixels:
             return None
