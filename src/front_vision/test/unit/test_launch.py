@@ -1,0 +1,58 @@
+"""front_vision's launch files, parsed (nothing started): robot.launch starts it for a robot seeing through its
+cameras that is not its team's goalie, with the shipped parameters, camera and colour table, which all load."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from front_vision.camera_model import load_camera
+from front_vision.pipeline import FrontVisionParams
+from nubot_common.params import from_mapping, load_yaml
+from omni_vision.colors import ColorTable
+
+SRC = Path(__file__).resolve().parents[3]
+
+
+def launched(launch: Path, *args: str) -> dict[str, dict]:
+    """The nodes a launch file starts with ``args``: namespaced name -> its private parameters and remappings."""
+    import roslaunch.config
+    import roslaunch.xmlloader
+
+    config = roslaunch.config.ROSLaunchConfig()
+    roslaunch.xmlloader.XmlLoader().load(str(launch), config, argv=["roslaunch", *args], verbose=False)
+    nodes = {}
+    for node in config.nodes:
+        name = f"{node.namespace.rstrip('/')}/{node.name}"
+        private = {k[len(name) + 1:]: p.value for k, p in config.params.items() if k.startswith(name + "/")}
+        nodes[name] = {"package": node.package, "remap": dict(node.remap_args), **private}
+    return nodes
+
+
+@pytest.mark.parametrize("robot, goalie_id, perception, started", [
+    ("nubot2", "1", "vision", True), ("nubot1", "1", "vision", False), ("rival3", "3", "vision", False),
+    ("rival1", "3", "vision", True), ("nubot2", "1", "truth", False), ("nubot11", "1", "vision", True),
+])
+def test_robot_launch_starts_front_vision_for_a_regular_robot_seeing_through_its_cameras(robot, goalie_id,
+                                                                                       perception, started):
+    nodes = launched(SRC / "nubot_control" / "launch" / "robot.launch", f"robot:={robot}",
+                     f"goalie_id:={goalie_id}", f"perception:={perception}")
+    assert (f"/{robot}/front_vision" in nodes) == started
+
+
+def test_the_node_gets_the_shipped_parameters_camera_and_table():
+    node = launched(SRC / "front_vision" / "launch" / "front_vision.launch", "robot:=nubot2")["/nubot2/front_vision"]
+    assert node["robot"] == "nubot2" and node["remap"]["image"] == "/nubot2/front_camera/image_raw"
+    load_camera(node["camera"])
+    ColorTable.load(node["color_table"])
+    own: dict = {}
+    for key, value in node.items():
+        if key not in ("robot", "remap", "package", "camera", "color_table"):
+            *path, leaf = key.split("/")
+            branch = own
+            for part in path:
+                branch = branch.setdefault(part, {})
+            branch[leaf] = value
+    shipped = load_yaml(FrontVisionParams, SRC / "front_vision" / "config" / "front_vision.yaml")
+    assert from_mapping(FrontVisionParams, own) == shipped == FrontVisionParams(), "the YAML states the defaults"
