@@ -134,17 +134,11 @@ class BallLocator:
                 best = sighting
         return best if best is not None else BallSighting(Sighting.NOT_SEEN)
 
-    def _grow(self, rgb: np.ndarray, cells: np.ndarray, stats: np.ndarray, centroid: np.ndarray) -> BallSighting | None:
-        """The region grown from one candidate's seed ``cells`` (bool, seed grid), their box ``stats`` and centre."""
-        p, cam, step = self.params, self.camera, self.params.seed_step
-        rows, cols = np.nonzero(cells)
-        nearest = int(np.argmin((rows - centroid[1]) ** 2 + (cols - centroid[0]) ** 2))
-        seed = (int(cols[nearest]) * step, int(rows[nearest]) * step)
-        # The window the candidate's region can reach: its seed cells' box, grown by a seed step and the margin.
-        x, y, w, h = (int(v) for v in stats[:4])
-        pad = step + p.window_margin
-        u0, v0 = max(x * step - pad, 0), max(y * step - pad, 0)
-        u1, v1 = min((x + w) * step + pad, cam.width), min((y + h) * step + pad, cam.height)
+    def _flood(self, rgb: np.ndarray, window_box: tuple[int, int, int, int],
+               seed: tuple[int, int]) -> tuple[int, tuple[int, int, int, int], np.ndarray] | None:
+        """Region growing from ``seed`` (u, v) inside ``window_box`` (u0, v0, u1, v1): (area, its box in the
+        window (x, y, w, h), its mask (uint8 0/1) in that box); None when the seed is no BALL pixel."""
+        u0, v0, u1, v1 = window_box
         window = np.ascontiguousarray(rgb[v0:v1, u0:u1])
         classes = self.table.classify_rgb(window)
         if classes[seed[1] - v0, seed[0] - u0] != ColorClass.BALL:
@@ -152,11 +146,34 @@ class BallLocator:
         # Pixels of the carpet, the lines and the robots stop the growth (mask 1); the region is marked 2.
         mask = np.ones((v1 - v0 + 2, u1 - u0 + 2), np.uint8)
         mask[1:-1, 1:-1] = (classes == ColorClass.GREEN) | (classes == ColorClass.WHITE) | (classes == ColorClass.BLACK)
-        tol = (p.grow_tolerance,) * 3
+        tol = (self.params.grow_tolerance,) * 3
         area, _, _, rect = cv2.floodFill(window, mask, (seed[0] - u0, seed[1] - v0), (0, 0, 0), tol, tol,
                                          8 | cv2.FLOODFILL_MASK_ONLY | (_REGION << 8))
         x0, y0, w, h = rect
-        region = (mask[1 + y0:1 + y0 + h, 1 + x0:1 + x0 + w] == _REGION).astype(np.uint8)
+        return int(area), (x0, y0, w, h), (mask[1 + y0:1 + y0 + h, 1 + x0:1 + x0 + w] == _REGION).astype(np.uint8)
+
+    def _grow(self, rgb: np.ndarray, cells: np.ndarray, stats: np.ndarray, centroid: np.ndarray) -> BallSighting | None:
+        """The region grown from one candidate's seed ``cells`` (bool, seed grid), their box ``stats`` and centre."""
+        p, cam, step = self.params, self.camera, self.params.seed_step
+        rows, cols = np.nonzero(cells)
+        nearest = int(np.argmin((rows - centroid[1]) ** 2 + (cols - centroid[0]) ** 2))
+        seed = (int(cols[nearest]) * step, int(rows[nearest]) * step)
+        # The window the candidate's region can reach: its seed cells' box grown by its own size (the shaded
+        # underside the table does not know can be as tall as the lit part it knows) and the margin; a region
+        # that reaches the window's edge inside the image is grown again over the whole image.
+        x, y, w, h = (int(v) for v in stats[:4])
+        pad = step * (max(w, h) + 1) + p.window_margin
+        box = (max(x * step - pad, 0), max(y * step - pad, 0), min((x + w) * step + pad, cam.width),
+               min((y + h) * step + pad, cam.height))
+        for u0, v0, u1, v1 in (box, (0, 0, cam.width, cam.height)):
+            grown = self._flood(rgb, (u0, v0, u1, v1), seed)
+            if grown is None:
+                return None
+            area, (x0, y0, w, h), region = grown
+            inside = (x0 > 0 or u0 == 0) and (y0 > 0 or v0 == 0) and (x0 + w < u1 - u0 or u1 == cam.width) \
+                and (y0 + h < v1 - v0 or v1 == cam.height)
+            if inside:
+                break
         x0, y0 = x0 + u0, y0 + v0
         if area < p.min_pixels:
             return None

@@ -107,3 +107,20 @@ def test_an_orange_square_is_no_ball(locator: BallLocator) -> None:
     image = render_empty()
     image[80:130, 100:200] = (245, 110, 20)
     assert locator.locate(image).sighting is Sighting.IMPLAUSIBLE
+
+
+def test_in_darker_light_the_shaded_underside_the_table_does_not_know_joins_the_region(locator: BallLocator) -> None:
+    """Where the field's light is dim, the table knows only the ball's lit top; region growing takes the rest."""
+    from sim_visual.world import BallState, RobotState
+
+    from .scenes import renderer
+
+    me = RobotState(4.0713, -0.7362, 1.7623, 0.0, 0.0, 0.0)
+    ball = BallState(3.8823, 0.0651, 0.11, 0.0, 0.0, 0.0)
+    image = renderer().render(me, ball, [], 45.0, np.random.default_rng(3))  # the dimmest time of the light
+    known = int((table().classify_rgb(image) == ColorClass.BALL).sum())
+    sighting = locator.locate(image)
+    c, s = math.cos(me.theta), math.sin(me.theta)
+    bx, by = c * (ball.x - me.x) + s * (ball.y - me.y), -s * (ball.x - me.x) + c * (ball.y - me.y)
+    assert sighting.known and sighting.pixels > 1.5 * known
+    assert math.hypot(sighting.x - bx, sighting.y - by) < 0.01

@@ -1,11 +1,11 @@
 """Benchmark front_vision in one process without ROS: time per frame and the ball's position error.
 
-    python scripts/bench_front_vision.py --out bench/results [--seed 0] [--balls 400] [--cpu N]
+    python scripts/bench_front_vision.py --out bench/results [--seed 0] [--balls 500] [--cpu N]
 
 Requires: sim_visual's ``FrontCameraRenderer`` (the simulated front camera with its default, true camera and its
 noise), front_vision's shipped calibration (``config/front_camera_sim.yaml``, made by ``rosrun front_vision
 calibrate --simulate``) and omni_vision's colour table (``config/colors_sim.npz``), matplotlib.
-Scenario: ``--balls`` seeded placements of the ball on the ground at 0.6 - 3.5 m from the robot's centre, within
+Scenario: ``--balls`` seeded placements of the ball on the ground at 0.6 - 4.5 m from the robot's centre, within
 +-40 deg of its front, the robot at a random pose inside the lines, sometimes (one in three) another robot 0.8 -
 1.5 m beyond the ball. Each frame goes through ``FrontVision.process`` (the calibrated camera, not the true one)
 on one core (``cv2.setNumThreads(1)``, pinned to ``--cpu``).
@@ -41,7 +41,7 @@ from sim_visual.world import BallState, RobotState
 
 CAMERA_FILE = WORKSPACE / "src" / "front_vision" / "config" / "front_camera_sim.yaml"
 TABLE_FILE = WORKSPACE / "src" / "omni_vision" / "config" / "colors_sim.npz"
-BINS = (0.6, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5)  # [m] from the robot's centre
+BINS = (0.6, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5)  # [m] from the robot's centre
 NEAR = 1.5  # [m] the error target holds within this distance
 TARGET_MEDIAN_MS = 3.0
 TARGET_ERROR_CM = 2.0
@@ -205,7 +205,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--balls", type=int, default=400, help="seeded ball placements (default 400)")
+    parser.add_argument("--balls", type=int, default=500, help="seeded ball placements (default 500)")
     parser.add_argument("--cpu", type=int, default=max(os.sched_getaffinity(0)),
                         help="the core the measurements are pinned to (-1: no pinning)")
     args = parser.parse_args(argv)
