@@ -211,9 +211,13 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.seed < 0 or args.balls < 1:
         parser.error("--seed must not be negative and --balls at least 1")
-    cv2.setNumThreads(1)
     args.out.mkdir(parents=True, exist_ok=True)
-    results, process_ms = run(args)
+    threads = cv2.getNumThreads()
+    cv2.setNumThreads(1)
+    try:
+        results, process_ms = run(args)
+    finally:
+        cv2.setNumThreads(threads)
     (args.out / "front_vision.json").write_text(json.dumps(results, indent=2) + "\n")
     plot(results, process_ms, args.out / "front_vision.png")
     print(report(results))
