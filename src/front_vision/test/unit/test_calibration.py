@@ -86,3 +86,21 @@ def test_the_tool_writes_a_camera_file_front_vision_loads(tmp_path, capsys) -> N
 def test_the_tool_refuses_a_folder_without_images(tmp_path, capsys) -> None:
     assert calibrate_main(["--images", str(tmp_path), "--out", str(tmp_path / "c.yaml")]) == 2
     assert "no images" in capsys.readouterr().err
+
+
+def test_the_tool_calibrates_from_image_files_as_a_real_camera_gives_them(tmp_path) -> None:
+    import cv2
+
+    pictures = tmp_path / "pictures"
+    pictures.mkdir()
+    for n, image in enumerate(board_views(PARAMS, BOARD, 16, seed=8)):
+        cv2.imwrite(str(pictures / f"view{n:02d}.png"), cv2.cvtColor(image, cv2.COLOR_RGB2BGR))
+    ground = ground_views(PARAMS, GROUND_BOARD, PLACEMENTS[:1], seed=9)[0]
+    cv2.imwrite(str(tmp_path / "ground.png"), cv2.cvtColor(ground, cv2.COLOR_RGB2BGR))
+    out = tmp_path / "camera.yaml"
+    assert calibrate_main(["--images", str(pictures), "--ground", "0.95,0,-90", "--ground-image",
+                           str(tmp_path / "ground.png"), "--out", str(out)]) == 0
+    camera = load_camera(out)
+    np.testing.assert_allclose(camera.position, CAMERA.position, atol=0.01)
+    assert camera.pitch_deg == pytest.approx(CAMERA.pitch_deg, abs=0.5)
+    assert calibrate_main(["--images", str(pictures), "--out", str(out)]) == 2, "no ground view: refused"
