@@ -57,6 +57,8 @@ bench: setup
 	@$(ROS) python scripts/bench_match.py --out bench/results
 	@$(ROS) python scripts/bench_lockstep.py --out bench/results
 	@$(ROS) python scripts/bench_vision.py --out bench/results
+	@$(ROS) python scripts/bench_front_vision.py --out bench/results
+	@$(ROS) python scripts/bench_kinect_ball.py --out bench/results
 	@$(ROS) python scripts/bench_team_link.py --out bench/results
 	@$(ROS) python scripts/bench_hwcontrol.py --out bench/results
 	@$(ROS) python scripts/bench_viewer.py --out bench/results

@@ -2,9 +2,11 @@
 
 Requires: the generated ``nubot_common`` messages and ``genpy`` (no rospy). Provides, both ways where a
 node needs both: percepts (``robot_report``/``robot_info_msg``, ``ball_percept``/``ball_info_msg``,
-``robot_view``/``omni_vision_msg``, ``team_views``/``team_message_msg``), coach commands
-(``coach_fields``, ``coach_info_msg``), team play (``pass_command``/``pass_commands_msg``,
-``strategy_report``/``strategy_info_msg``, ``target_info_msg``/``target_of``), the motion layer's path
+``ball3d_percept``/``ball_info3d_msg`` (BallInfo3d), ``front_ball``/``front_ball_info_msg`` (FrontBallInfo, body
+frame), ``robot_view``/``omni_vision_msg``,
+``team_views``/``team_message_msg``), coach commands (``coach_fields``, ``coach_info_msg``), team play
+(``pass_command``/``pass_commands_msg``, ``strategy_report``/``strategy_info_msg``,
+``target_info_msg``/``target_of``), the motion layer's path
 (``planned_path_msg``/``planned_path``), the world model's decision (``world_model_info_msg``/``world_state``:
 lossless for everything control reads), commands (``velcmd_msg``/``body_velocity``) and the world description
 (``world_description_msg``/``world_description``). Conventions: a zero header stamp means "not stamped" (the
@@ -32,12 +34,15 @@ from nubot_common.msg import (
 )
 from nubot_common.msg import (
     BallInfo,
+    BallInfo3d,
     CoachInfo,
+    FrontBallInfo,
     ObstaclesInfo,
     OmniVisionInfo,
     PassCommands,
     PlannedPath,
     Point2d,
+    Point3d,
     PPoint,
     RobotInfo,
     StrategyInfo,
@@ -56,7 +61,7 @@ from nubot_common.msg import (
 from nubot_common.msg import (
     WorldDescription as WorldDescriptionMsg,
 )
-from nubot_common.percepts import BallPercept, RobotReport, RobotView
+from nubot_common.percepts import Ball3dPercept, BallPercept, RobotReport, RobotView
 from nubot_common.team_play import PassCommand, Point, Role, StrategyReport
 from nubot_common.world_description import BallBody, RobotBody, WorldDescription
 from nubot_common.world_state import (
@@ -145,6 +150,54 @@ def ball_info_msg(percept: BallPercept | None, source: BallSource, observer: Pos
         ball.real_pos = PPoint(observer.bearing_to(percept.x, percept.y), observer.distance_to(percept.x, percept.y))
     ball.pos_known, ball.velocity_known = True, percept.velocity_known
     return ball
+
+
+def ball3d_percept(msg: BallInfo3d, fallback: float) -> Ball3dPercept | None:
+    """The ball of a BallInfo3d (team frame [m], [m/s]) if its 3-D position is known and finite; stamped
+    ``fallback`` when the message is not. A velocity that is not finite counts as unknown."""
+    p, v = msg.pos, msg.velocity
+    if not msg.pos_known_3d or not all(math.isfinite(c) for c in (p.x, p.y, p.z)):
+        return None
+    t = seconds(msg.header.stamp) or fallback
+    if msg.velocity_known and all(math.isfinite(c) for c in (v.x, v.y, v.z)):
+        return Ball3dPercept(t, p.x, p.y, p.z, v.x, v.y, v.z, True)
+    return Ball3dPercept(t, p.x, p.y, p.z)
+
+
+def ball_info3d_msg(percept: Ball3dPercept | None, t: float, frame_id: str = "") -> BallInfo3d:
+    """BallInfo3d of the ball an RGB-D camera saw (team frame), or one with nothing known at ``t`` [s]."""
+    msg = BallInfo3d()
+    msg.header.stamp = stamp(percept.stamp if percept is not None else t)
+    msg.header.frame_id = frame_id
+    if percept is None:
+        return msg
+    msg.pos = Point3d(percept.x, percept.y, percept.z)
+    msg.pos_known_3d = msg.pos_known_2d = True
+    if percept.velocity_known:
+        msg.velocity = Point3d(percept.vx, percept.vy, percept.vz)
+        msg.velocity_known = True
+    return msg
+
+
+def front_ball_info_msg(percept: BallPercept | None, t: float, frame_id: str = "") -> FrontBallInfo:
+    """FrontBallInfo of the ball the front camera saw: ``percept`` (x, y) [m] in the robot's body frame, sent as
+    polar ``real_pos`` (angle [rad] from the front, counter-clockwise; radius [m]); None: not known, at ``t``."""
+    msg = FrontBallInfo()
+    msg.header.stamp = stamp(percept.stamp if percept is not None else t)
+    msg.header.frame_id = frame_id
+    if percept is not None and math.isfinite(percept.x) and math.isfinite(percept.y):
+        msg.real_pos = PPoint(math.atan2(percept.y, percept.x), math.hypot(percept.x, percept.y))
+        msg.pos_known = True
+    return msg
+
+
+def front_ball(msg: FrontBallInfo, fallback: float) -> BallPercept | None:
+    """The ball of a FrontBallInfo as (x, y) [m] in the robot's body frame, if known and finite; stamped
+    ``fallback`` when the message is not."""
+    angle, radius = msg.real_pos.angle, msg.real_pos.radius
+    if not msg.pos_known or not (math.isfinite(angle) and math.isfinite(radius)) or radius < 0.0:
+        return None
+    return BallPercept(seconds(msg.header.stamp) or fallback, radius * math.cos(angle), radius * math.sin(angle))
 
 
 def obstacles_msg(points: Sequence[Point], observer: Pose2D | None, t: float) -> ObstaclesInfo:

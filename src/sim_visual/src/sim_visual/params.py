@@ -216,6 +216,8 @@ class SimNodeParams:
     model_states_rate: float = 100.0  # /sim_visual/model_states [Hz, sim time]
     vision_rate: float = 30.0  # /<robot>/omnivision/OmniVisionInfo, or camera image [Hz, sim time]
     vision: str = ""  # robots seeing through the camera (RobotSelection: all, or names such as nubot1,rival2)
+    goalie_id: int = 1  # AgentID of each team's goalie (nubot_control's play/goalie_id); 0: none. A goalie of
+    # ``vision`` also gets its two RGB-D cameras' clouds (kinect_ball)
     odometry_rate: float = 50.0  # their /<robot>/nubotdriver/odoinfo [Hz, sim time]
     imu_rate: float = 50.0  # their /<robot>/imu/data [Hz, sim time]
     camera_labels: bool = False  # also publish each image's colour classes (/<robot>/camera/labels)
@@ -227,6 +229,8 @@ class SimNodeParams:
         if not self.real_time_factor <= REAL_TIME_FACTOR_MAX:
             raise ValueError(f"real_time_factor must be at most {REAL_TIME_FACTOR_MAX:g}, got {self.real_time_factor}")
         require_positive(self, "model_states_rate", "vision_rate", "clock_rate", "odometry_rate", "imu_rate")
+        if not 0 <= self.goalie_id <= MAX_ROBOTS:
+            raise ValueError(f"goalie_id must lie in [0, {MAX_ROBOTS}] (0: no goalie), got {self.goalie_id}")
         try:
             RobotSelection.parse(self.vision)
         except NubotCommonError as exc:

@@ -5,7 +5,8 @@ chapter (``command_velocity``, ``ball_handle``, ``shoot``), Gazebo-like world
 services (``model_states``, ``set_model_state``, ``reset``, ``spawn_robot``,
 ``delete_robot``), ``switch_ends`` (half time), ``observe`` (noisy omni-vision frame of one robot; its noise-free
 truth: ``observe_truth``), the robot's own sensors for omni_vision (``camera_frame``, ``odometry``,
-``inertial_heading``) and ``step`` which returns the events of that step (goals, kicks, captures). All
+``inertial_heading``), for front_vision (``front_camera_frame``) and for kinect_ball (``rgbd_frames``), and
+``step`` which returns the events of that step (goals, kicks, captures). All
 randomness comes from ``SimConfig.seed``: the percepts' noise from one ``numpy.random.Generator``, the
 sensors' from one of their own derived from the same seed.
 Every state from outside is checked before it reaches ODE (finite, inside the arena, speeds within
@@ -52,6 +53,7 @@ from sim_visual.world import BallState, PhysicsWorld, RobotState
 
 if TYPE_CHECKING:
     from sim_visual.omni_camera import RenderedFrame
+    from sim_visual.rgbd_camera import RgbdFrame
 
 _NO_NOISE = NoiseParams(position_std=0.0, velocity_std=0.0, self_position_std=0.0, heading_std=0.0)
 _KICK_FLAG_TIME = 0.2  # RobotInfo.iskick stays true this long after a kick [s]
@@ -365,6 +367,18 @@ class Simulator:
         self._plugin(name)
         others = [self.world.robot_state(n) for n in self.plugins if n != name]
         return self.sensors.camera(self.time, self.world.robot_state(name), self.world.ball_state(), others, labels)
+
+    def front_camera_frame(self, name: str) -> np.ndarray:
+        """Robot ``name``'s front camera image now (RGB, the camera's size; a regular robot's, front_vision)."""
+        self._plugin(name)
+        others = [self.world.robot_state(n) for n in self.plugins if n != name]
+        return self.sensors.front_camera(self.time, self.world.robot_state(name), self.world.ball_state(), others)
+
+    def rgbd_frames(self, name: str) -> tuple[RgbdFrame, RgbdFrame]:
+        """Robot ``name``'s two RGB-D cameras' point clouds now (left, right; the goalie's, kinect_ball)."""
+        self._plugin(name)
+        others = [self.world.robot_state(n) for n in self.plugins if n != name]
+        return self.sensors.rgbd(self.time, self.world.robot_state(name), self.world.ball_state(), others)
 
     def odometry(self, name: str, dt: float) -> OdometryReading:
         """Robot ``name``'s wheel odometry now, ``dt`` [s] after its previous reading."""

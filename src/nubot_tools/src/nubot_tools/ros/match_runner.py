@@ -155,9 +155,11 @@ def subscriber_counts() -> dict[str, int]:
     return {topic: len(nodes) for topic, nodes in subscribers}
 
 
-# Camera images (20 MB/s per robot at 30 Hz) stay out of a match's bag; record them apart when needed. tf and the
-# RViz markers stay out too: match_markers makes them again from the bag's model states, referee and paths.
-UNRECORDED = r"/tf|/match_markers/.*|.*/(camera/image_raw|camera/labels|omnivision/debug_image)"
+# Camera images (20 MB/s per robot at 30 Hz) and RGB-D clouds stay out of a match's bag; record them apart when
+# needed. tf and the RViz markers stay out too: match_markers makes them again from the bag's model states, referee
+# and paths.
+UNRECORDED = (r"/tf|/match_markers/.*|"
+              r".*/(camera/image_raw|camera/labels|omnivision/debug_image|front_camera/image_raw|kinect/\w+/points)")
 CUT_SHORT_STATUS = 3  # exit status of a match that did not reach full time
 RUN_FILE = "run.json"  # beside the bag: how the match ended, and every node that died or came back
 
