@@ -1,10 +1,10 @@
 """One robot's fused world model: the world model's decision, which control acts on (WorldModelInfo).
 
-Provides: ``WorldState`` (at one time: every teammate with its validity, the fused ball, labelled
-obstacles, the game state, the pass in force) and its parts ``Teammate``, ``FusedBall``,
-``LabelledObstacle``, ``GameState``, ``CoachCommand``, ``CoachExtras``, ``BallSource``,
-``ObstacleLabel``. The world model decides each of these once; control and every other reader use
-them as they are. Team frame (own goal at -x): [m], [m/s], [rad]; times are sim time [s].
+Provides: ``WorldState`` (at one time: every teammate with its validity, the fused ball, the ball's
+flight in 3-D, labelled obstacles, the game state, the pass in force) and its parts ``Teammate``,
+``FusedBall``, ``BallFlight``, ``LabelledObstacle``, ``GameState``, ``CoachCommand``, ``CoachExtras``,
+``BallSource``, ``BallSensor``, ``ObstacleLabel``. The world model decides each of these once; control
+and every other reader use them as they are. Team frame (own goal at -x): [m], [m/s], [rad]; times are sim time [s].
 """
 
 from __future__ import annotations
@@ -13,9 +13,10 @@ import math
 from dataclasses import dataclass, field
 from enum import Enum, IntEnum
 
+from nubot_common.ball_flight import GRAVITY, landing
 from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import MatchMode
-from nubot_common.percepts import BallPercept, RobotReport
+from nubot_common.percepts import Ball3dPercept, BallPercept, RobotReport
 from nubot_common.team_play import PassCommand, Point, Role
 
 
@@ -25,6 +26,15 @@ class BallSource(IntEnum):
     UNKNOWN = 0
     OWN = 1
     TEAMMATE = 2
+
+
+class BallSensor(IntEnum):
+    """Which of this robot's own sensors the fused ball comes from (NONE: a teammate's, or unknown)."""
+
+    NONE = 0
+    OMNI = 1  # the omni-directional camera
+    FRONT = 2  # the front camera (near ball)
+    RGBD = 3  # the goalie's RGB-D cameras (the ball in 3-D)
 
 
 class ObstacleLabel(Enum):
@@ -49,10 +59,33 @@ class FusedBall:
     stamp: float = -math.inf  # time of that observation [s]
     angle: float = 0.0  # bearing from this robot's front [rad]
     radius: float = 0.0  # distance from this robot's centre [m]
+    sensor: BallSensor = BallSensor.NONE  # the own sensor it comes from (source OWN)
 
     @property
     def position(self) -> Point:
         return self.x, self.y
+
+
+@dataclass(frozen=True)
+class BallFlight:
+    """The ball in 3-D from this robot's RGB-D cameras, and where and when it comes down while it flies."""
+
+    ball: Ball3dPercept  # the latest own 3-D observation, its velocity fitted over the flight
+    touchdown: tuple[float, float, float] | None = None  # (x, y [m], sim time [s]) its centre comes down to its
+    # radius; None while it is on the ground or its velocity is not known
+
+    @classmethod
+    def of(cls, ball: Ball3dPercept, ball_radius: float, air_margin: float,
+           gravity: float = GRAVITY) -> BallFlight:
+        """``ball`` with its touchdown when its centre is more than ``air_margin`` [m] above a ball at rest."""
+        if not (ball.velocity_known and ball.z > ball_radius + air_margin):
+            return cls(ball)
+        down = landing(ball.x, ball.y, ball.z, ball.vx, ball.vy, ball.vz, ball_radius, gravity)
+        return cls(ball, (down.x, down.y, ball.stamp + down.t))
+
+    @property
+    def in_air(self) -> bool:
+        return self.touchdown is not None
 
 
 @dataclass(frozen=True)
@@ -134,6 +167,7 @@ class WorldState:
     obstacles: tuple[LabelledObstacle, ...]
     game: GameState
     pass_cmd: PassCommand | None  # the valid pass in force, if any
+    flight: BallFlight | None = None  # the ball in 3-D from own RGB-D cameras, while fresh
 
     @property
     def me(self) -> Teammate:

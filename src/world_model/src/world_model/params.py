@@ -22,12 +22,14 @@ class WorldModelParams:
     obstacle_merge_radius: float = 0.5  # a teammate's obstacle this close to a known one is the same robot [m]
     ball_agreement_radius: float = 1.0  # a robot whose ball is this close to the fused ball sees the same ball [m]
     sighting_confidence: float = 0.7  # confidence in a fresh ball seen by one robot, in (0, 1)
+    sensor_timeout: float = 0.15  # an own sensor whose ball is this recent takes its place in the order of trust [s]
+    air_margin: float = 0.1  # a 3-D ball whose centre is this much above a ball at rest flies [m]
 
     def __post_init__(self) -> None:
         if not 1 <= self.team_size <= 99:
             raise ValueError(f"team_size must lie in [1, 99], got {self.team_size}")
         for name in ("teammate_timeout", "strategy_timeout", "ball_timeout", "velocity_window", "teammate_radius",
-                     "obstacle_merge_radius", "ball_agreement_radius"):
+                     "obstacle_merge_radius", "ball_agreement_radius", "sensor_timeout", "air_margin"):
             if not getattr(self, name) > 0.0:
                 raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
         if self.min_fit_samples < 2:

@@ -2,12 +2,15 @@
 
 Requires, as they arrive (sim time t [s], team frame):
   ``on_vision(frame)``                       own percepts (``RobotView``: self-localization, ball, obstacles);
+  ``on_front_ball(stamp, relative)``         the front camera's ball, relative to this robot (FrontBallInfo);
+  ``on_ball3d(ball)``                        the RGB-D cameras' ball in 3-D (``Ball3dPercept``, BallInfo3d);
   ``on_teammate(t, view)``                   a teammate's packet (TeamMessage via the team link);
   ``on_coach(t, mode, match_type, extras)``  a game command (CoachInfo); unknown values raise;
   ``on_strategy(t, report)``                 this robot's strategy (role, targets, pass command, target);
   ``on_teammate_strategy(t, report)``        a teammate's strategy (its pass command; that it still plays).
-Provides: ``snapshot(t)`` -> ``WorldState`` (robots by AgentID with validity, fused ball, labelled
-obstacles, game state with the time the command came into force, the pass in force) and
+Provides: ``snapshot(t)`` -> ``WorldState`` (robots by AgentID with validity, fused ball, the ball's flight
+in 3-D with its touchdown, labelled obstacles, game state with the time the command came into force, the
+pass in force) and
 ``own_view(t)`` -> the ``RobotView`` this robot shares with its teammates.
 Parameters: ``WorldModelParams`` and the match's ``WorldDescription`` (the field).
 Rules: a robot (this one included) is valid while its state is fresh (``teammate_timeout``), it
@@ -15,8 +18,11 @@ reports itself valid and stands on the field (lines plus border); a teammate als
 when its strategy falls silent for ``strategy_timeout`` while the team's strategies are heard (its
 control stopped: the others take over its role). Own perception older than ``ball_timeout`` is not
 used; a ball seen outside the field plus border is a false detection. The ball comes from own
-sensors first, else from the valid teammate nearest to its ball; a ball no valid robot sees is not
-known and stays where it was last seen.
+sensors first, in the original's order of trust among those that saw it within ``sensor_timeout``: omni
+vision, then the front camera, then the RGB-D cameras (but the RGB-D ball while it flies: the cameras
+that see the ball on the floor plane misplace a ball in the air); else the freshest own sighting within
+``ball_timeout``; else the valid teammate nearest to its ball. A ball no valid robot sees is not known
+and stays where it was last seen.
 """
 
 from __future__ import annotations
@@ -25,10 +31,19 @@ import math
 from dataclasses import replace
 
 from nubot_common.geometry import Pose2D
-from nubot_common.percepts import BallPercept, RobotReport, RobotView
+from nubot_common.percepts import Ball3dPercept, BallPercept, RobotReport, RobotView
 from nubot_common.team_play import Point, StrategyReport
 from nubot_common.world_description import WorldDescription
-from nubot_common.world_state import BallSource, CoachExtras, FusedBall, GameState, Teammate, WorldState
+from nubot_common.world_state import (
+    BallFlight,
+    BallSensor,
+    BallSource,
+    CoachExtras,
+    FusedBall,
+    GameState,
+    Teammate,
+    WorldState,
+)
 from world_model import WorldModelError
 from world_model.ball_fusion import BallCandidate, BallTrack, agreeing, ball_confidence, choose_ball
 from world_model.game import next_game_state, parse_coach_command, select_pass
@@ -36,6 +51,7 @@ from world_model.obstacles import label_obstacles
 from world_model.params import WorldModelParams
 
 _TIME_JUMP = 1.0  # the clock going back by more than this means a restarted simulation: forget everything [s]
+_MAX_HEIGHT = 20.0  # a 3-D ball higher than this is a false detection [m]
 
 
 class WorldModel:
@@ -54,14 +70,17 @@ class WorldModel:
 
     def _forget(self) -> None:
         self._vision: RobotView | None = None
-        self._own_track = BallTrack(self._keep)
+        self._own_track = BallTrack(self._keep)  # omni vision
+        self._front_track = BallTrack(self._keep)
+        self._rgbd_track = BallTrack(self._keep)  # the 3-D ball's ground projections
+        self._ball3d: Ball3dPercept | None = None
         self._mates: dict[int, RobotView] = {}
         self._mate_tracks: dict[int, BallTrack] = {}
         self._strategy: StrategyReport | None = None
         self._mate_strategies: dict[int, StrategyReport] = {}
         self._last_ball: Point | None = None
         self._made_report: tuple[RobotReport, StrategyReport, RobotReport] | None = None  # inputs and own report
-        self._made_ball: tuple[BallPercept, tuple[float, float] | None, BallPercept] | None = None  # likewise
+        self._made_ball: tuple[BallPercept, tuple[float, float] | None, BallPercept, BallSensor] | None = None
 
     def _note_time(self, t: float) -> None:
         if t < self._clock - _TIME_JUMP:
@@ -95,6 +114,37 @@ class WorldModel:
         self._vision = frame if robot is frame.robot and ball is frame.ball else replace(frame, robot=robot, ball=ball)
         if ball is not None:
             self._own_track.add(ball)
+
+    def on_front_ball(self, stamp: float, relative: Point | None) -> None:
+        """The front camera's ball at ``stamp`` [s]: (forward, left) [m] from this robot's centre; None: not seen.
+
+        It is placed on the field with this robot's latest self-localization (ignored before there is one).
+        """
+        if relative is None:
+            return
+        rx, ry = relative
+        if not all(math.isfinite(v) for v in (stamp, rx, ry)):
+            raise WorldModelError(f"front camera ball must be finite, got {relative} at {stamp}")
+        self._note_time(stamp)
+        if self._vision is None:
+            return
+        ball = self._plausible(BallPercept(stamp, *self._vision.robot.pose.to_world(rx, ry)))
+        if ball is not None:
+            self._front_track.add(ball)
+
+    def on_ball3d(self, ball: Ball3dPercept | None) -> None:
+        """The RGB-D cameras' ball in 3-D (team frame); None: not seen."""
+        if ball is None:
+            return
+        if not all(math.isfinite(v) for v in (ball.stamp, ball.x, ball.y, ball.z, ball.vx, ball.vy, ball.vz)):
+            raise WorldModelError(f"3-D ball must be finite, got {ball}")
+        self._note_time(ball.stamp)
+        if not (self._on_field(ball.x, ball.y) and -self.world.ball.radius <= ball.z <= _MAX_HEIGHT):
+            return
+        if self._ball3d is not None and ball.stamp <= self._ball3d.stamp:
+            return  # a repeat or a late one
+        self._ball3d = ball
+        self._rgbd_track.add(ball.on_ground())
 
     def on_teammate(self, t: float, view: RobotView) -> bool:
         """A teammate's shared state received at ``t``; False when ignored (this robot's own, or older)."""
@@ -177,17 +227,54 @@ class WorldModel:
                  and self._on_field(report.pose.x, report.pose.y) and self._playing(t, agent_id))
         return Teammate(agent_id, valid, age, report)
 
-    def _own_ball(self, t: float) -> BallPercept | None:
-        latest = self._own_track.latest
-        if latest is None or t - latest.stamp > self.params.ball_timeout:
+    def _flying(self, t: float) -> Ball3dPercept | None:
+        """The fresh 3-D ball while it flies."""
+        ball = self._ball3d
+        if ball is None or t - ball.stamp > self.params.sensor_timeout:
             return None
-        velocity = self._own_track.velocity(self.params.velocity_window, self.params.min_fit_samples)
+        return ball if ball.z > self.world.ball.radius + self.params.air_margin else None
+
+    def _own_sighting(self, t: float) -> tuple[BallTrack, BallSensor] | None:
+        """The own sensor to believe at ``t``, with its track."""
+        p = self.params
+        if self._flying(t) is not None:
+            return self._rgbd_track, BallSensor.RGBD
+        sensors = ((self._own_track, BallSensor.OMNI), (self._front_track, BallSensor.FRONT),
+                   (self._rgbd_track, BallSensor.RGBD))  # the order of trust
+        recent = [(track, sensor, latest.stamp) for track, sensor in sensors
+                  if (latest := track.latest) is not None and t - latest.stamp <= p.ball_timeout]
+        for track, sensor, stamp in recent:
+            if t - stamp <= p.sensor_timeout:
+                return track, sensor
+        if not recent:
+            return None
+        track, sensor, _ = max(recent, key=lambda r: r[2])  # the freshest; max keeps the first of equals
+        return track, sensor
+
+    def _own_ball(self, t: float) -> BallPercept | None:
+        sighting = self._own_sighting(t)
+        if sighting is None:
+            return None
+        track, sensor = sighting
+        latest = track.latest
+        assert latest is not None
+        flying = self._flying(t) if sensor is BallSensor.RGBD else None
+        if flying is not None and flying.velocity_known:
+            velocity: tuple[float, float] | None = (flying.vx, flying.vy)  # the parabola's, fitted by the cameras
+        else:
+            velocity = track.velocity(self.params.velocity_window, self.params.min_fit_samples)
         made = self._made_ball  # asked for twice a cycle (snapshot, own_view): made once per input
         if made is None or made[0] is not latest or made[1] != velocity:
             vx, vy = velocity or (0.0, 0.0)
-            made = (latest, velocity, replace(latest, vx=vx, vy=vy, velocity_known=velocity is not None))
+            made = (latest, velocity, replace(latest, vx=vx, vy=vy, velocity_known=velocity is not None), sensor)
             self._made_ball = made
         return made[2]
+
+    def _flight(self, t: float) -> BallFlight | None:
+        ball = self._ball3d
+        if ball is None or t - ball.stamp > self.params.ball_timeout:
+            return None
+        return BallFlight.of(ball, self.world.ball.radius, self.params.air_margin)
 
     def _mate_ball(self, t: float, agent_id: int) -> BallPercept | None:
         view = self._mates.get(agent_id)
@@ -229,7 +316,8 @@ class WorldModel:
             p.teammate_radius, p.obstacle_merge_radius)
         strategies = [s for s in (self._strategy, *self._mate_strategies.values()) if s is not None]
         pass_cmd = select_pass(self.agent_id, strategies, t, p.teammate_timeout, p.team_size)
-        return WorldState(t, self.agent_id, robots, ball, team_balls, obstacles, self._game, pass_cmd)
+        return WorldState(t, self.agent_id, robots, ball, team_balls, obstacles, self._game, pass_cmd,
+                          self._flight(t))
 
     def _fuse_ball(self, chosen: BallCandidate | None, candidates: list[BallCandidate], me: Pose2D) -> FusedBall:
         p = self.params
@@ -237,8 +325,10 @@ class WorldModel:
             x, y = self._last_ball if self._last_ball is not None else (0.0, 0.0)
             return FusedBall(x, y, known=False, angle=me.bearing_to(x, y), radius=me.distance_to(x, y))
         obs = chosen.observation
+        sensor = BallSensor.NONE
         if chosen.source is BallSource.OWN:
             velocity = (obs.vx, obs.vy) if obs.velocity_known else None  # already fitted by _own_ball
+            sensor = self._made_ball[3] if self._made_ball is not None else BallSensor.NONE
         else:
             track = self._mate_tracks.get(chosen.agent_id)
             velocity = track.velocity(p.velocity_window, p.min_fit_samples) if track is not None else None
@@ -250,4 +340,4 @@ class WorldModel:
         return FusedBall(obs.x, obs.y, vx, vy, True, velocity is not None,
                          ball_confidence(chosen.age, len(seen_by), p.ball_timeout, p.sighting_confidence),
                          seen_by, chosen.source, chosen.agent_id, obs.stamp,
-                         me.bearing_to(obs.x, obs.y), me.distance_to(obs.x, obs.y))
+                         me.bearing_to(obs.x, obs.y), me.distance_to(obs.x, obs.y), sensor)
