@@ -1,11 +1,11 @@
 """One robot's whole decision pipeline, pure: percepts, teammates' packets and coach commands in, commands out.
 
 Requires: the robot's name (``RobotName``), the match's ``WorldDescription``, ``WorldModelParams`` and
-``ControlParams``; then, at their times [s] (sim time), its own percepts (``RobotView``), teammates'
-packets (``RobotView``) and strategies (``StrategyReport``), coach commands (MatchMode, MatchType,
-extras). Provides: ``RobotAgent.step(t)`` -> ``AgentStep`` (the ``RobotCommand`` for the base, the
-ball handler and the kicker; the ``StrategyReport`` for the teammates; the ``WorldState`` the
-world model decided; the packet this robot shares) and its two stages:
+``ControlParams``; then, at their times [s] (sim time), its own percepts (``RobotView``; a front camera's
+ball, a goalie's 3-D ball), teammates' packets (``RobotView``) and strategies (``StrategyReport``), coach
+commands (MatchMode, MatchType, extras). Provides: ``RobotAgent.step(t)`` -> ``AgentStep`` (the
+``RobotCommand`` for the base, the ball handler and the kicker; the ``StrategyReport`` for the teammates;
+the ``WorldState`` the world model decided; the packet this robot shares) and its two stages:
 
 - ``WorldModel`` (``world_model`` package): fuses what the robot knows into a ``WorldState``;
 - ``Controller``: acts on that decision with the ``Strategy`` (roles, set plays, behaviours,
@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 from nubot_common.commands import RobotCommand
 from nubot_common.naming import RobotName
-from nubot_common.percepts import RobotView
-from nubot_common.team_play import Role, StrategyReport
+from nubot_common.percepts import Ball3dPercept, RobotView
+from nubot_common.team_play import Point, Role, StrategyReport
 from nubot_common.world_description import WorldDescription
 from nubot_common.world_state import CoachExtras, GameState, WorldState
 from nubot_control.params import ControlParams
@@ -116,6 +116,12 @@ class RobotAgent:
 
     def on_vision(self, frame: RobotView) -> None:
         self.world_model.on_vision(frame)
+
+    def on_front_ball(self, stamp: float, relative: Point | None) -> None:
+        self.world_model.on_front_ball(stamp, relative)
+
+    def on_ball3d(self, ball: Ball3dPercept | None) -> None:
+        self.world_model.on_ball3d(ball)
 
     def on_teammate(self, t: float, packet: RobotView) -> bool:
         return self.world_model.on_teammate(t, packet)

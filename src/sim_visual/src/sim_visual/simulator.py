@@ -4,9 +4,9 @@ Requires: ``SimConfig``. Provides: ``Simulator`` with the robot interface of the
 chapter (``command_velocity``, ``ball_handle``, ``shoot``), Gazebo-like world
 services (``model_states``, ``set_model_state``, ``reset``, ``spawn_robot``,
 ``delete_robot``), ``switch_ends`` (half time), ``observe`` (noisy omni-vision frame of one robot; its noise-free
-truth: ``observe_truth``), the robot's own sensors for omni_vision (``camera_frame``, ``odometry``,
-``inertial_heading``), for front_vision (``front_camera_frame``) and for kinect_ball (``rgbd_frames``), and
-``step`` which returns the events of that step (goals, kicks, captures). All
+truth: ``observe_truth``; a goalie's RGB-D ball: ``observe_ball3d``), the robot's own sensors for omni_vision
+(``camera_frame``, ``odometry``, ``inertial_heading``), for front_vision (``front_camera_frame``) and for
+kinect_ball (``rgbd_frames``), and ``step`` which returns the events of that step (goals, kicks, captures). All
 randomness comes from ``SimConfig.seed``: the percepts' noise from one ``numpy.random.Generator``, the
 sensors' from one of their own derived from the same seed.
 Every state from outside is checked before it reaches ODE (finite, inside the arena, speeds within
@@ -25,7 +25,7 @@ from nubot_common.commands import BodyVelocity, KickKind, RobotCommand
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate
 from nubot_common.naming import parse_robot_name
-from nubot_common.percepts import RobotView
+from nubot_common.percepts import Ball3dPercept, RobotView
 from nubot_common.team_frame import TeamFrame
 from sim_visual import SimVisualError
 from sim_visual.odometry import ImuReading, OdometryReading
@@ -47,7 +47,7 @@ from sim_visual.rules import (
     held_ball_velocity,
     lob_velocity,
 )
-from sim_visual.sensing import RobotFlags, observe
+from sim_visual.sensing import RobotFlags, observe, observe_ball3d
 from sim_visual.sensors import RobotSensors
 from sim_visual.world import BallState, PhysicsWorld, RobotState
 
@@ -55,6 +55,7 @@ if TYPE_CHECKING:
     from sim_visual.omni_camera import RenderedFrame
     from sim_visual.rgbd_camera import RgbdFrame
 
+BALL3D_STREAM = 2  # the RGB-D percepts' generator: SeedSequence([seed, BALL3D_STREAM]) (the sensors' is 1)
 _NO_NOISE = NoiseParams(position_std=0.0, velocity_std=0.0, self_position_std=0.0, heading_std=0.0)
 _KICK_FLAG_TIME = 0.2  # RobotInfo.iskick stays true this long after a kick [s]
 _STUCK_MIN_COMMAND = 0.3  # commands slower than this never count as stuck [m/s]
@@ -134,6 +135,7 @@ class Simulator:
         self.plugin_params: PluginParams = config.plugin
         self.noise: NoiseParams = config.noise
         self.rng = np.random.default_rng(config.seed)
+        self.ball3d_rng = np.random.default_rng(np.random.SeedSequence([config.seed, BALL3D_STREAM]))
         self.sensors = RobotSensors(config.world, config.sensors, config.seed)
         self.time = 0.0
         self.steps = 0
@@ -346,6 +348,13 @@ class Simulator:
     def observe(self, name: str) -> RobotView:
         """What robot ``name``'s omni vision gives now: its percepts, in its team frame, with noise."""
         return self._observe(name, self.noise, self.rng)
+
+    def observe_ball3d(self, name: str) -> Ball3dPercept | None:
+        """The ball in 3-D as robot ``name``'s RGB-D cameras give it now (a goalie's; team frame, with noise);
+        None out of their view. Its noise comes from a generator of its own: asking changes no other percept."""
+        plugin = self._plugin(name)
+        return observe_ball3d(self.time, self.world.robot_state(name), TeamFrame(plugin.spawn.attack),
+                              self.world.ball_state(), self.ball3d_rng)
 
     def observe_truth(self, name: str) -> RobotView:
         """Robot ``name``'s percepts without noise or range limit (the truth a vision is measured against);
