@@ -8,7 +8,8 @@ frame), ``robot_view``/``omni_vision_msg``,
 (``pass_command``/``pass_commands_msg``, ``strategy_report``/``strategy_info_msg``,
 ``target_info_msg``/``target_of``), the motion layer's path
 (``planned_path_msg``/``planned_path``), the world model's decision (``world_model_info_msg``/``world_state``:
-lossless for everything control reads), commands (``velcmd_msg``/``body_velocity``) and the world description
+lossless for everything control reads; ``ball_flight_msg``/``ball_flight``: the ball's flight, BallFlightInfo),
+commands (``velcmd_msg``/``body_velocity``) and the world description
 (``world_description_msg``/``world_description``). Conventions: a zero header stamp means "not stamped" (the
 reader uses the time of arrival); ``char`` fields arrive as an int, a byte or a one-letter string and leave as int;
 ``CoachInfo.header.stamp`` inside ``WorldModelInfo`` is when the current command came into force.
@@ -33,6 +34,7 @@ from nubot_common.msg import (
     BallBody as BallBodyMsg,
 )
 from nubot_common.msg import (
+    BallFlightInfo,
     BallInfo,
     BallInfo3d,
     CoachInfo,
@@ -65,6 +67,7 @@ from nubot_common.percepts import Ball3dPercept, BallPercept, RobotReport, Robot
 from nubot_common.team_play import PassCommand, Point, Role, StrategyReport
 from nubot_common.world_description import BallBody, RobotBody, WorldDescription
 from nubot_common.world_state import (
+    BallFlight,
     BallSource,
     CoachCommand,
     CoachExtras,
@@ -404,6 +407,33 @@ def world_state(msg: WorldModelInfo, agent_id: int) -> WorldState:
     game = GameState(CoachCommand(_safe_mode(mode), _safe_mode(previous), extras), since, since)
     return WorldState(t, agent_id, tuple(robots), fused_ball(own_ball), balls, tuple(obstacles), game,
                       pass_command(msg.pass_cmd))
+
+
+
+def ball_flight_msg(flight: BallFlight | None, t: float) -> BallFlightInfo:
+    """BallFlightInfo of the world model's flight at its snapshot ``t`` [s]; None: ``ball.pos_known_3d`` false."""
+    msg = BallFlightInfo()
+    msg.header.stamp = stamp(t)
+    if flight is None:
+        msg.ball.header.stamp = msg.header.stamp
+        return msg
+    msg.ball = ball_info3d_msg(flight.ball, t)
+    if flight.touchdown is not None:
+        x, y, when = flight.touchdown
+        msg.in_air, msg.touchdown, msg.touchdown_time = True, Point2d(x, y), when
+    return msg
+
+
+def ball_flight(msg: BallFlightInfo) -> BallFlight | None:
+    """The world model's flight back from its message (None when no 3-D ball is known); a touchdown that is
+    not finite reads as none (the ball on the ground)."""
+    ball = ball3d_percept(msg.ball, seconds(msg.header.stamp))
+    if ball is None:
+        return None
+    down = (float(msg.touchdown.x), float(msg.touchdown.y), float(msg.touchdown_time))
+    if not (msg.in_air and all(math.isfinite(v) for v in down)):
+        return BallFlight(ball)
+    return BallFlight(ball, down)
 
 
 # --- commands ------------------------------------------------------------------------------------
