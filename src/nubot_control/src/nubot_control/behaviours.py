@@ -15,6 +15,7 @@ import math
 from dataclasses import dataclass
 from enum import IntEnum
 
+from nubot_common.ball_flight import time_to_x
 from nubot_common.commands import KickCommand, KickKind
 from nubot_common.geometry import Pose2D, wrap_angle
 from nubot_common.percepts import RobotReport
@@ -186,24 +187,49 @@ def mark(state: TeamState, opponent: tuple[float, float], params: ControlParams)
 
 
 def keep_goal(state: TeamState, params: ControlParams) -> Intent:
-    """Guard the goal line; clear a slow ball that comes into the goal area; the goal's centre when the ball is lost."""
-    f, ball, me = state.field, state.ball, state.me
-    line_x = -f.half_length + 0.4
+    """Guard the goal: meet a lob where it comes down into the goal (the RGB-D cameras' flight), stand where a ball
+    coming at the goal crosses the guarded line, else on the line from the goal's centre to the ball; clear a slow
+    ball in the goal area; the goal's centre when the ball is lost."""
+    f, ball, me, play = state.field, state.ball, state.me, params.play
+    line_x = -f.half_length + play.goalie_line
     if state.me.holding:
         face = _facing(me.pose.x, me.pose.y, 0.0, 3.0 if me.pose.y >= 0 else -3.0)
         ok = abs(wrap_angle(face.theta - me.pose.theta)) < 0.3
         kick = KickCommand(KickKind.GROUND, 8) if ok else None
         return Intent(face, Action.KEEP_GOAL, dribble=True, kick=kick, speed_limit=0.5)
+    lob = _meet_lob(state, params)
+    if lob is not None:
+        return lob
     if not ball.known:
         return Intent(Pose2D(line_x, 0.0, 0.0), Action.KEEP_GOAL)
     in_area = ball.x < -f.half_length + f.penalty_area_length and abs(ball.y) < f.penalty_area_width / 2
     if in_area and math.hypot(ball.vx, ball.vy) < 1.0:
         intent = chase_ball(state, params)
         return Intent(intent.target, Action.KEEP_GOAL, dribble=intent.dribble)
-    y = ball.y
     if ball.vx < -0.5:  # the ball comes at the goal: stand where it will cross the line
         t = (line_x - ball.x) / ball.vx
         y = ball.y + ball.vy * t
+    else:  # on the line from the goal's centre to the ball: the angle a shot has is shared out evenly
+        y = ball.y * play.goalie_line / max(ball.x + f.half_length, play.goalie_line)
     half = f.goal_width / 2 - 0.2
     y = max(-half, min(half, y))
     return Intent(_facing(line_x, y, ball.x, ball.y), Action.KEEP_GOAL)
+
+
+def _meet_lob(state: TeamState, params: ControlParams) -> Intent | None:
+    """Where to meet a ball flying at the goal: where it comes down in front of the goal, or where it crosses the
+    lob line (just ahead of the goal line, where a lob aimed under the bar is lowest); None for any other ball."""
+    flight, f, play = state.flight, state.field, params.play
+    if flight is None or flight.touchdown is None or flight.ball.vx > -0.5:
+        return None
+    b = flight.ball
+    stand_x = -f.half_length + play.lob_line
+    x, y, _ = flight.touchdown
+    if x < stand_x:  # it would land in the goal: meet it on the lob line
+        t = time_to_x(b.x, b.vx, stand_x)
+        if t is None:
+            return None
+        x, y = stand_x, b.y + b.vy * t
+    if abs(y) > f.goal_width / 2 + 0.5:  # wide of the goal
+        return None
+    return Intent(_facing(x, y, b.x, b.y), Action.KEEP_GOAL)

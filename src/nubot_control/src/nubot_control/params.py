@@ -67,11 +67,17 @@ class PlayParams:
     min_role_time: float = 1.0  # keep a role at least this long unless the holder drops out [s]
     search_distance: float = 1.5  # with the ball lost, the active robot stops this short of where it was seen [m]
     search_turn: float = 0.6  # ... and then turns on the spot, aiming this far ahead of its heading [rad]
+    goalie_line: float = 0.4  # the goalie guards the goal this far ahead of its goal line [m]
+    lob_line: float = -0.2  # ... and meets a lob coming down into the goal this far ahead of the line (behind it:
+    # a lob aimed under the bar is lower there, and comes down on the goalie's body, not over it) [m]
     goalie_id: int = 1
     team_size: int = 5
 
     def __post_init__(self) -> None:
         require_positive(self, "search_distance", "search_turn")
+        if not -0.3 <= self.lob_line <= self.goalie_line <= 2.0:
+            raise ValueError(f"need -0.3 <= lob_line <= goalie_line <= 2.0 [m], got {self.lob_line}, "
+                             f"{self.goalie_line}")
         if not 1 <= self.goalie_id <= self.team_size:
             raise ValueError(f"goalie_id must lie in 1..team_size, got {self.goalie_id}")
 

@@ -3,7 +3,7 @@
 Requires: a ``WorldState`` (the world model's decision), the control time [s], the goalie's AgentID
 and the field. Provides: ``TeamState`` and ``team_state`` which builds it without deciding anything
 again: the robots the world model holds valid (this robot apart), its fused ball (known or where it
-was last seen), the obstacles it labels opponents, the game command with the time it came into
+was last seen) and its flight in 3-D, the obstacles it labels opponents, the game command with the time it came into
 force, the pass it holds in force. The team frame has the own goal at -x and the opponent goal at +x.
 """
 
@@ -15,7 +15,7 @@ from nubot_common.field import FieldGeometry
 from nubot_common.match_mode import MatchMode
 from nubot_common.percepts import RobotReport
 from nubot_common.team_play import PassCommand, Point
-from nubot_common.world_state import FusedBall, WorldState
+from nubot_common.world_state import BallFlight, FusedBall, WorldState
 
 
 @dataclass(frozen=True)
@@ -31,6 +31,7 @@ class TeamState:
     mode_since: float = 0.0  # [s] sim time the command came into force
     pass_cmd: PassCommand | None = None  # the pass in force
     goalie_id: int = 1
+    flight: BallFlight | None = None  # the ball in 3-D with its touchdown (a goalie's RGB-D cameras), if fresh
 
     @property
     def team(self) -> tuple[RobotReport, ...]:
@@ -50,4 +51,4 @@ def team_state(world: WorldState, time: float, goalie_id: int, field: FieldGeome
     mates = tuple(r.report for r in world.teammates if r.valid and r.report is not None)
     game = world.game
     return TeamState(time, me.report, mates, world.ball, tuple((o.x, o.y) for o in world.opponents), field,
-                     game.mode, game.previous, game.since, world.pass_cmd, goalie_id)
+                     game.mode, game.previous, game.since, world.pass_cmd, goalie_id, world.flight)
