@@ -58,6 +58,9 @@ def test_one_step_is_one_control_cycle_and_the_rates_are_a_ros_match_s(tmp_path)
     counter = Counter()
     match = LockstepMatch(match_config(home, away, half_seconds=30), [counter])
     match.reset(0)
+    ball3d = []  # the robots asked for the RGB-D cameras' ball
+    observe_ball3d = match.sim.observe_ball3d
+    match.sim.observe_ball3d = lambda name: ball3d.append(name) or observe_ball3d(name)
     for _ in range(99):  # 3 s at 33 Hz
         before = len(counter.cycles)
         match.step()
@@ -65,6 +68,8 @@ def test_one_step_is_one_control_cycle_and_the_rates_are_a_ros_match_s(tmp_path)
     t = match.time
     assert t == pytest.approx(3.0, abs=0.031)
     assert len(counter.frames) / 4 == pytest.approx(30 * t, abs=1.5)  # omni vision at 30 Hz
+    assert set(ball3d) == {"nubot1", "rival1"} and ball3d.count("rival1") == len(counter.frames) / 4, \
+        "each team's goalie, with each vision frame"
     assert len(counter.states) == pytest.approx(100 * t, abs=1.5)  # model states at 100 Hz
     assert match.sim.config.physics.step_size <= 0.007
     first = counter.commands[:2]  # the referee's kick-off for the first team, its mirror for the other

@@ -6,7 +6,8 @@ Requires: a ``MatchConfig`` (``nubot_match.config``) and a seed. Provides: ``Loc
 ``AutomaticReferee``); ``step()`` runs one control period; ``run()`` plays to the end. Every physics
 step (``sim.physics.step_size`` <= 7 ms) the schedule runs, in sim time, what the ROS match runs:
 
-- every robot's omni vision at ``vision_rate`` (30 Hz), into its world model;
+- every robot's omni vision at ``vision_rate`` (30 Hz), into its world model, and each team's goalie
+  (AgentID ``play.goalie_id``) also its RGB-D cameras' ball in 3-D (``Simulator.observe_ball3d``);
 - every robot's control cycle at its ``ControlParams.rate`` (33 Hz): teammates' packets and strategies
   from the relay (what the last cycle shared, as the relay node hands them on), ``RobotAgent.step``, and
   its commands through the robot interface (velocity, BallHandle, Shoot);
@@ -92,6 +93,7 @@ class LockstepMatch:
         self.sim: Simulator | None = None
         self.agents: dict[str, RobotAgent] = {}
         self.steps: dict[str, AgentStep] = {}  # each robot's latest control cycle
+        self.goalies: frozenset[str] = frozenset()  # each team's goalie: it also sees the ball in 3-D
         self.seed: int | None = None
 
     # --- set-up ----------------------------------------------------------------------------------
@@ -111,6 +113,8 @@ class LockstepMatch:
                 self.agents[name] = RobotAgent(parse_robot_name(name), cfg.world, cfg.world_model, team.control)
                 self.control_period[name] = 1.0 / team.control.rate
         self.team_of = {name: parse_robot_name(name).team for name in self.agents}
+        self.goalies = frozenset(name for team in cfg.teams for name in team.config.robot_names()
+                                 if parse_robot_name(name).agent_id == team.control.play.goalie_id)
         self.members = {t.config.prefix: tuple(t.config.robot_names()) for t in cfg.teams}
         self.packets = {team: TeamRelay[RobotView](team, names, cfg.relay_max_age)
                         for team, names in self.members.items()}
@@ -214,6 +218,8 @@ class LockstepMatch:
             for name, agent in self.agents.items():
                 view = sim.observe(name)
                 agent.on_vision(view)
+                if name in self.goalies:  # its own generator: draws nothing from the one above
+                    agent.on_ball3d(sim.observe_ball3d(name))
                 for listener in self.listeners:
                     listener.vision(name, view)
         due = [p for p, schedule in self._control.items() if schedule.due(t)]
