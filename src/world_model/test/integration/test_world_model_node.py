@@ -22,16 +22,18 @@ class WorldModelWatcher:
         import rospy
         from rosgraph_msgs.msg import Clock
 
-        from nubot_common.msg import TeamMessage, TeamMessages, WorldModelInfo
+        from nubot_common.msg import BallFlightInfo, TeamMessage, TeamMessages, WorldModelInfo
 
         self.lock = threading.Lock()
         self.clock = 0.0
         self.infos: list = []
         self.team: list = []
+        self.flights: list = []
         self.subs = [
             rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=10),
             rospy.Subscriber(f"/{ROBOT}/worldmodel/worldmodelinfo", WorldModelInfo, self._on_info, queue_size=200),
             rospy.Subscriber(f"/{ROBOT}/worldmodel/teammessage", TeamMessage, self._on_team, queue_size=200),
+            rospy.Subscriber(f"/{ROBOT}/worldmodel/ballflight", BallFlightInfo, self._on_flight, queue_size=200),
         ]
         self.mates_pub = rospy.Publisher(f"/{TEAM}/simulation_interface/teammates", TeamMessages, queue_size=10)
 
@@ -50,6 +52,15 @@ class WorldModelWatcher:
     def _on_team(self, msg) -> None:
         with self.lock:
             self.team.append(msg)
+
+    def _on_flight(self, msg) -> None:
+        with self.lock:
+            self.flights.append(msg)
+
+    @property
+    def flight(self):
+        with self.lock:
+            return self.flights[-1] if self.flights else None
 
     @property
     def latest(self):
@@ -162,6 +173,19 @@ def _teammate_messages(sim_time: float):
     return TeamMessages(messages=messages)
 
 
+def _move_ball(x: float, y: float) -> None:
+    import rospy
+
+    from nubot_common.msg import ModelState
+    from nubot_common.srv import SetModelState
+
+    state = ModelState(model_name="football", reference_frame="world")
+    state.pose.position.x, state.pose.position.y, state.pose.position.z = x, y, 0.11
+    state.pose.orientation.w = 1.0
+    rospy.wait_for_service("/sim_visual/set_model_state", 10)
+    assert rospy.ServiceProxy("/sim_visual/set_model_state", SetModelState)(state).success
+
+
 def test_teammate_ball_is_used_when_the_robot_cannot_see_it_until_the_teammate_falls_silent(world):
     from dynamic_reconfigure.client import Client
 
@@ -169,6 +193,7 @@ def test_teammate_ball_is_used_when_the_robot_cannot_see_it_until_the_teammate_f
     reconfigure = Client("/sim_visual", timeout=20)
     reconfigure.update_configuration({"vision_range": 1.0})  # the ball is 3.6 m away
     try:
+        _move_ball(-6.0, -3.0)  # and out of the goalie's RGB-D cameras' view (behind it)
         watcher.wait_for(lambda: watcher.latest.ballinfo[0].ballinfostate == 0, timeout=10,
                          what="the own ball to go stale")
         watcher.wait_sim(1.0, every_frame=lambda t: watcher.mates_pub.publish(_teammate_messages(t)))
@@ -186,5 +211,93 @@ def test_teammate_ball_is_used_when_the_robot_cannot_see_it_until_the_teammate_f
     finally:
         reconfigure.update_configuration({"vision_range": 0.0})
         reconfigure.close()
+        _move_ball(1.0, 2.0)
+    watcher.wait_for(lambda: watcher.latest.ballinfo[0].ballinfostate == 1, timeout=10, what="the ball seen again")
+    assert "Traceback" not in node.log_text()
+
+
+LOB_FROM, LOB_VELOCITY = (-1.0, 1.0, 1.2), (-2.0, 0.5, 2.0)  # team frame [m], [m/s]
+
+
+def _lob(t0: float, t: float):
+    """BallInfo3d of the ball lobbed from LOB_FROM at ``t0`` as the RGB-D cameras see it at ``t`` [s]."""
+    import genpy
+
+    from nubot_common.ball_flight import GRAVITY
+    from nubot_common.msg import BallInfo3d, Point3d
+
+    dt = t - t0
+    (x, y, z), (vx, vy, vz) = LOB_FROM, LOB_VELOCITY
+    msg = BallInfo3d(pos=Point3d(x + vx * dt, y + vy * dt, z + vz * dt + 0.5 * GRAVITY * dt * dt),
+                     velocity=Point3d(vx, vy, vz + GRAVITY * dt), pos_known_3d=True, pos_known_2d=True,
+                     velocity_known=True)
+    msg.header.stamp = genpy.Time.from_sec(t)
+    return msg
+
+
+def test_the_front_camera_s_and_the_rgbd_ball_are_fused_and_the_flight_is_published(world):
+    """nubot1 is its team's goalie: the simulator gives it the 3-D ball; then, with the ball out of every own
+    view, a front camera ball is the fused ball, and a lofted 3-D ball is, with its touchdown."""
+    import math
+
+    import genpy
+    import rospy
+    from dynamic_reconfigure.client import Client
+
+    from nubot_common.ball_flight import landing
+    from nubot_common.msg import BallInfo3d, FrontBallInfo, PPoint
+
+    node, watcher = world
+    watcher.wait_for(lambda: watcher.flight is not None and watcher.flight.ball.pos_known_3d, timeout=10,
+                     what="the simulator's 3-D ball of the goalie")
+    ground = watcher.flight
+    assert not ground.in_air and (ground.ball.pos.x, ground.ball.pos.y, ground.ball.pos.z) == pytest.approx(
+        (1.0, 2.0, 0.11), abs=0.05), "the ball lying at (1, 2)"
+    front_pub = rospy.Publisher(f"/{ROBOT}/front_vision/FrontBallInfo", FrontBallInfo, queue_size=10)
+    ball3d_pub = rospy.Publisher(f"/{ROBOT}/kinect/ballinfo", BallInfo3d, queue_size=10)
+    reconfigure = Client("/sim_visual", timeout=20)
+    try:
+        _move_ball(-6.0, -3.0)  # behind the robot: out of its RGB-D cameras' view
+        reconfigure.update_configuration({"vision_range": 1.0})  # and out of its omni camera's
+        watcher.wait_for(lambda: watcher.latest.ballinfo[0].ballinfostate == 0
+                         and not watcher.flight.ball.pos_known_3d, timeout=10, what="no own ball any more")
+        watcher.wait_for(lambda: front_pub.get_num_connections() and ball3d_pub.get_num_connections(), timeout=10,
+                         what="world_model to subscribe")
+
+        def front(t: float) -> None:
+            msg = FrontBallInfo(real_pos=PPoint(0.3, 0.8), pos_known=True)
+            msg.header.stamp = genpy.Time.from_sec(t)
+            front_pub.publish(msg)
+
+        watcher.wait_sim(0.5, every_frame=front)
+        info = watcher.latest
+        me, ball = info.robotinfo[0], info.ballinfo[0]
+        theta = me.heading.theta
+        want = (me.pos.x + 0.8 * math.cos(theta + 0.3), me.pos.y + 0.8 * math.sin(theta + 0.3))
+        assert (ball.ballinfostate, ball.pos_known) == (1, True)
+        assert (ball.pos.x, ball.pos.y) == pytest.approx(want, abs=0.12), "0.8 m ahead, 0.3 rad to the left" \
+            " (of a pose with 2 cm of noise a frame)"
+
+        t0 = watcher.clock
+        watcher.wait_sim(0.3, every_frame=lambda t: ball3d_pub.publish(_lob(t0, t)))
+        watcher.wait_sim(0.1)
+        with watcher.lock:  # the last flight that has its WorldModelInfo (the two topics arrive in either order)
+            infos = {m.header.stamp: m for _, m in watcher.infos[-10:]}
+            flight = next(f for f in reversed(watcher.flights) if f.header.stamp in infos and f.ball.pos_known_3d)
+            info = infos[flight.header.stamp]
+        assert flight.in_air and flight.header.stamp.to_sec() >= t0 + 0.2
+        down = landing(*LOB_FROM, *LOB_VELOCITY, 0.11)
+        assert (flight.touchdown.x, flight.touchdown.y) == pytest.approx((down.x, down.y), abs=0.01)
+        assert flight.touchdown_time == pytest.approx(t0 + down.t, abs=0.005)
+        ball = info.ballinfo[0]
+        assert (ball.ballinfostate, ball.pos_known) == (1, True)
+        assert (ball.pos.x, ball.pos.y) == pytest.approx((flight.ball.pos.x, flight.ball.pos.y), abs=1e-4), \
+            "the ball in the air is the RGB-D cameras' (the front camera's is stale)"
+    finally:
+        front_pub.unregister()
+        ball3d_pub.unregister()
+        reconfigure.update_configuration({"vision_range": 0.0})
+        reconfigure.close()
+        _move_ball(1.0, 2.0)
     watcher.wait_for(lambda: watcher.latest.ballinfo[0].ballinfostate == 1, timeout=10, what="the ball seen again")
     assert "Traceback" not in node.log_text()
