@@ -137,8 +137,12 @@ def test_running_match_graph_matches_the_topic_table(match):
     text = (ROOT / "docs" / "topics.md").read_text().split("## Topics of a match")[1].split("## ")[0]
     rows = [[c.strip().strip("`") for c in line.strip("|").split("|")] for line in text.splitlines()
             if line.startswith("| `")]
-    code, _, (publishers, _subs, _services) = xmlrpc.client.ServerProxy(master.uri).getSystemState("/t")
+    code, _, (publishers, subscribers, _services) = xmlrpc.client.ServerProxy(master.uri).getSystemState("/t")
     published = {topic: set(nodes) for topic, nodes in publishers}
+    heard = {topic: set(nodes) for topic, nodes in subscribers}
+    assert {"/nubot1/world_model"} <= heard.get("/nubot1/kinect/ballinfo", set()), "the goalie's 3-D ball"
+    assert published.get("/nubot1/kinect/ballinfo") == {"/sim_visual"}
+    assert {"/nubot3/nubot_control"} <= heard.get("/nubot3/worldmodel/ballflight", set())
     checked = 0
     for topic, _type, producer, *_ in rows:
         if topic.startswith(("/<T>/receive_from_coach", "/referee")):
