@@ -23,3 +23,15 @@ def test_quick_run_saves_lobs_an_empty_goal_concedes_and_a_seed_gives_the_same_s
     assert main(["--quick", "--out", str(tmp_path), "--label", "again"]) == 0
     again = json.loads((tmp_path / "goalie_again.json").read_text())
     assert again["shots"] == data["shots"], "deterministic for a seed"
+
+
+def test_a_goalie_seeing_through_its_rgbd_cameras_saves_a_seeded_lob_that_scores_at_an_empty_goal():
+    from nubot_common.world_description import load_world
+    from nubot_tools.bench_goalie import play_shot, seeded_shots
+
+    world = load_world("18x12")
+    shot = seeded_shots(1, 0, world)[0]
+    assert shot["kind"] == "lob"
+    assert not play_shot(0, shot, world, 0, goalie=False).saved
+    saved = play_shot(0, shot, world, 0, vision=True)
+    assert saved.saved, "kinect_ball's flight lets the goalie meet the lob"

@@ -1,10 +1,13 @@
 """Benchmark the goalie against seeded shots in one process without ROS: how many lobs and ground shots it saves.
 
     python scripts/bench_goalie.py --out bench/results [--seed 0] [--shots 200] [--quick] [--label after]
+                                   [--perception truth|vision]
 
 Requires: the world (``--field``), sim_visual's ``Simulator`` (ODE, the percepts a match without cameras gives:
-omni vision and, for the goalie, ``observe_ball3d``), nubot_control's ``RobotAgent`` with the default parameters
-(the goalie's whole software: world model, roles, ``keep_goal``, motion layer), matplotlib.
+omni vision and, for the goalie, ``observe_ball3d``; with ``--perception vision`` the goalie's 3-D ball comes
+instead from its two simulated RGB-D cameras through kinect_ball's core, with kinect_ball's ``config/kinect_ball.yaml``
+and the goalie's own noisy self-localization), nubot_control's ``RobotAgent`` with the default parameters (the
+goalie's whole software: world model, roles, ``keep_goal``, motion layer), matplotlib.
 Each shot: the goalie ``nubot1`` (attacking +x, so its team frame is the world frame) starts on its goal line
 and plays (STARTROBOT) while the ball lies still for ``SETTLE`` s at a seeded spot 4-9 m from the centre of its goal
 (any angle up to 60 deg off the goal's axis), so it takes its place; then the ball is shot at a seeded point of the
@@ -30,9 +33,13 @@ from typing import Any
 
 import numpy as np
 
+from kinect_ball.conversions import Cloud
+from kinect_ball.pipeline import KinectBall, KinectBallParams
 from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import MatchMode
 from nubot_common.naming import parse_robot_name
+from nubot_common.params import load_yaml
+from nubot_common.percepts import Ball3dPercept
 from nubot_common.world_description import WorldDescription, load_world
 from nubot_control.agent import RobotAgent
 from nubot_control.params import ControlParams
@@ -44,6 +51,7 @@ from sim_visual.simulator import GoalScored, Simulator
 from sim_visual.world import BallState
 
 GOALIE = "nubot1"
+KINECT_CONFIG = WORKSPACE / "src" / "kinect_ball" / "config" / "kinect_ball.yaml"
 SETTLE = 1.5  # the ball lies still this long before the shot [s]
 WATCH = 3.0  # a shot not scored this long after it was struck is saved [s]
 DISTANCES = (4.0, 9.0)  # from the goal's centre [m]
@@ -98,7 +106,15 @@ def ball_launch(shot: dict[str, Any], world: WorldDescription, plugin: PluginPar
     return BallState(x, y, r, vx, vy, 0.0, -vy / r, vx / r, 0.0)
 
 
-def play_shot(index: int, shot: dict[str, Any], world: WorldDescription, seed: int, goalie: bool = True) -> Shot:
+def rgbd_ball(sim: Simulator, core: KinectBall, pose: Pose2D) -> Ball3dPercept | None:
+    """The goalie's 3-D ball from its two simulated RGB-D cameras through kinect_ball's core."""
+    clouds = {f.camera: Cloud(f.points.reshape(-1, 3), f.rgb.reshape(-1, 3), f.points.shape[:2])
+              for f in sim.rgbd_frames(GOALIE)}
+    return core.process(sim.time, pose, clouds).percept
+
+
+def play_shot(index: int, shot: dict[str, Any], world: WorldDescription, seed: int, goalie: bool = True,
+              vision: bool = False) -> Shot:
     f = world.field
     spawns = (RobotSpawn(GOALIE, -f.half_length + 0.4, 0.0, 0.0, 1),) if goalie else ()
     sim = Simulator(SimConfig(world=world, robots=spawns, ball_start=(float(shot["x"]), float(shot["y"])),
@@ -107,6 +123,7 @@ def play_shot(index: int, shot: dict[str, Any], world: WorldDescription, seed: i
     if agent is not None:
         agent.on_coach(0.0, MatchMode.STARTROBOT)
     launch = ball_launch(shot, world, sim.plugin_params, sim.config.physics.gravity)
+    core = KinectBall(load_yaml(KinectBallParams, KINECT_CONFIG), world.ball.radius) if vision else None
     next_vision = next_control = 0.0
     struck_at: float | None = None
     goal_at: float | None = None
@@ -116,8 +133,9 @@ def play_shot(index: int, shot: dict[str, Any], world: WorldDescription, seed: i
             sim.set_model_state(sim.config.ball_name, launch)
             struck_at = t
         if agent is not None and t >= next_vision:
-            agent.on_vision(sim.observe(GOALIE))
-            agent.on_ball3d(sim.observe_ball3d(GOALIE))
+            view = sim.observe(GOALIE)
+            agent.on_vision(view)
+            agent.on_ball3d(sim.observe_ball3d(GOALIE) if core is None else rgbd_ball(sim, core, view.robot.pose))
             next_vision += VISION_PERIOD
         if agent is not None and t >= next_control:
             sim.execute(GOALIE, agent.step(t).command)
@@ -192,6 +210,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--field", default="18x12", help="18x12, 22x14 or a world YAML")
     parser.add_argument("--label", default="goalie", help="names the output files goalie_<label>.{json,png}")
     parser.add_argument("--no-goalie", action="store_true", help="the same shots at an empty goal")
+    parser.add_argument("--perception", choices=("truth", "vision"), default="truth",
+                        help="the goalie's 3-D ball: the simulator's percept, or its RGB-D cameras and kinect_ball")
     args = parser.parse_args(argv)
     if args.shots < 1:
         parser.error(f"--shots must be at least 1, got {args.shots}")
@@ -201,7 +221,8 @@ def main(argv: list[str] | None = None) -> int:
     start = time.perf_counter()
     played: list[Shot] = []
     for i, shot in enumerate(shots):
-        played.append(play_shot(i, shot, world, args.seed, goalie=not args.no_goalie))
+        played.append(play_shot(i, shot, world, args.seed, goalie=not args.no_goalie,
+                                vision=args.perception == "vision"))
         if (i + 1) % 20 == 0 or i + 1 == n:
             lobs = [s for s in played if s.kind == "lob"]
             print(f"  {i + 1}/{n} shots, {sum(s.saved for s in lobs)}/{len(lobs)} lobs and "
@@ -209,6 +230,7 @@ def main(argv: list[str] | None = None) -> int:
                   f"shots saved, {time.perf_counter() - start:.0f} s", flush=True)
     summary = summarise(played)
     results = {"label": args.label, "seed": args.seed, "field": world.name, "goalie": not args.no_goalie,
+               "perception": args.perception,
                "machine": machine(None), "wall_seconds": round(time.perf_counter() - start, 1), "figures": summary,
                "target": {"lob_save_rate": 0.6, "met": summary["lob"]["save_rate"] >= 0.6},
                "shots": [asdict(s) for s in played]}
