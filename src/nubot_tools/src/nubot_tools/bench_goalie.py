@@ -43,6 +43,7 @@ from nubot_common.percepts import Ball3dPercept
 from nubot_common.world_description import WorldDescription, load_world
 from nubot_control.agent import RobotAgent
 from nubot_control.params import ControlParams
+from nubot_match.statistics import share_interval
 from nubot_tools.bench_lockstep import machine
 from nubot_tools.workspace import WORKSPACE
 from sim_visual.params import PluginParams, RobotSpawn, SimConfig
@@ -149,29 +150,19 @@ def play_shot(index: int, shot: dict[str, Any], world: WorldDescription, seed: i
                 goal_at)
 
 
-def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
-    """95 % Wilson score interval of a proportion k / n."""
-    if n == 0:
-        return 0.0, 1.0
-    p = k / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return max(0.0, centre - half), min(1.0, centre + half)
-
-
 def summarise(shots: list[Shot]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     bands = ((4.0, 5.5), (5.5, 7.0), (7.0, 9.01))
     for kind in ("lob", "ground"):
         mine = [s for s in shots if s.kind == kind]
         saved = sum(s.saved for s in mine)
-        low, high = wilson(saved, len(mine))
+        share = share_interval(saved, len(mine))
         by_band = {}
         for lo, hi in bands:
             band = [s for s in mine if lo <= s.distance < hi]
             by_band[f"{lo:g}-{min(hi, 9.0):g} m"] = {"shots": len(band), "saved": sum(s.saved for s in band)}
         out[kind] = {"shots": len(mine), "saved": saved, "save_rate": saved / len(mine) if mine else 0.0,
-                     "ci95": [low, high], "by_distance": by_band}
+                     "ci95": [share.low, share.high], "by_distance": by_band}
     return out
 
 
