@@ -109,7 +109,7 @@ def ball_launch(shot: dict[str, Any], world: WorldDescription, plugin: PluginPar
 
 def rgbd_ball(sim: Simulator, core: KinectBall, pose: Pose2D) -> Ball3dPercept | None:
     """The goalie's 3-D ball from its two simulated RGB-D cameras through kinect_ball's core."""
-    clouds = {f.camera: Cloud(f.points.reshape(-1, 3), f.rgb.reshape(-1, 3), f.points.shape[:2])
+    clouds = {f.camera: Cloud(f.points.reshape(-1, 3), f.rgb.reshape(-1, 3), (f.points.shape[0], f.points.shape[1]))
               for f in sim.rgbd_frames(GOALIE)}
     return core.process(sim.time, pose, clouds).percept
 
