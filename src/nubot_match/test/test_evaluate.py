@@ -144,6 +144,7 @@ def test_the_same_evaluation_runs_on_a_local_two_worker_dask_cluster(tmp_path):
     (["--half-seconds", "0"], "half length"),
     (["--home", "absent.yaml"], "cannot read absent.yaml"),
     (["--scheduler", "tcp://127.0.0.1:9"], "cannot reach the dask scheduler"),
+    (["--scheduler", "tcp://127.0.0.1"], "give it as tcp://host:port"),
 ])
 def test_bad_options_get_a_clear_error_and_no_traceback(tmp_path, args, message):
     done = evaluate(*args, "--out", tmp_path / "eval", timeout=120)

@@ -23,6 +23,7 @@ import json
 import os
 import resource
 import signal
+import socket
 import sys
 import time
 from collections.abc import Iterator, Sequence
@@ -143,12 +144,32 @@ class LocalRunner:
         self.pool.join()
 
 
+def _check_reachable(scheduler: str) -> None:
+    """Refuse at once a TCP scheduler nobody listens at (dask's client would retry for its whole timeout)."""
+    from urllib.parse import urlsplit
+
+    if not scheduler.startswith("tcp://"):
+        return  # another transport: the client says
+    parts = urlsplit(scheduler)
+    try:
+        port = parts.port
+    except ValueError:
+        port = None
+    if parts.hostname is None or port is None:
+        raise NubotMatchError(f"cannot reach the dask scheduler {scheduler}: give it as tcp://host:port")
+    try:
+        socket.create_connection((parts.hostname, port), timeout=5).close()
+    except OSError as exc:
+        raise NubotMatchError(f"cannot reach the dask scheduler {scheduler}: {exc}") from None
+
+
 class DaskRunner:
     """Matches on an existing dask.distributed cluster."""
 
     def __init__(self, scheduler: str):
         from distributed import Client
 
+        _check_reachable(scheduler)
         try:
             self.client = Client(scheduler, timeout=10)
         except (OSError, TimeoutError) as exc:
