@@ -42,11 +42,14 @@ evaluate: setup
 	  --field $(FIELD) --seed $(SEED) --tracker $(TRACKER) \
 	  $(if $(JOBS),--jobs $(JOBS),) $(if $(SCHEDULER),--scheduler $(SCHEDULER),)
 
+# Unit tests on every core (pytest-xdist, a test file per worker), then the integration tests one at a time:
+# each starts its own roscore and real-time nodes, which must not share the cores with other tests.
 test: lint
-	@$(ROS) python -m pytest
+	@$(ROS) { python -m pytest -m "not integration" -n auto --dist loadfile; unit=$$?; \
+	  python -m pytest -m integration; integration=$$?; exit $$(( unit != 0 ? unit : integration )); }
 
 unit: setup
-	@$(ROS) python -m pytest -m "not integration"
+	@$(ROS) python -m pytest -m "not integration" -n auto --dist loadfile
 
 integration: setup
 	@$(ROS) python -m pytest -m integration
