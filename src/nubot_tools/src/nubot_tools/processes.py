@@ -9,6 +9,7 @@ Logs go to ``log_dir`` so that a failing test can show them.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import socket
@@ -51,6 +52,7 @@ class Launched:
                                         stdin=subprocess.DEVNULL, start_new_session=True,
                                         preexec_fn=_default_sigint)
         self._seen: set[tuple[int, str]] = set()  # (pid, start time) of every descendant remember() saw
+        self._stopping: list[int] | None = None  # the processes interrupt() asked to stop
 
     def remember(self) -> None:
         """Note the processes below this one now: ``stop`` ends them even if their parent died in between
@@ -66,21 +68,30 @@ class Launched:
             self._log.flush()
         return self.log_path.read_text(errors="replace")
 
+    def interrupt(self) -> None:
+        """SIGINT to the whole group, without waiting: ``stop`` then waits for it (several children at once end
+        in the time of the slowest, not of all of them in turn)."""
+        if self._stopping is not None:
+            return
+        # roslaunch puts each node in a process group of its own: remember them all before asking to stop.
+        descendants = _descendants(self.process.pid)
+        self._stopping = descendants + [pid for pid, start in self._seen
+                                        if pid not in descendants and _start_time(pid) == start]
+        if self.alive():
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(self.process.pid, signal.SIGINT)
+
     def stop(self, timeout: float = 10.0) -> None:
         """SIGINT to the whole group, wait for all of it (e.g. rosbag's recorder closing its bag), then SIGKILL."""
         deadline = time.monotonic() + timeout
-        # roslaunch puts each node in a process group of its own: remember them all before asking to stop.
-        descendants = _descendants(self.process.pid)
-        descendants += [pid for pid, start in self._seen if pid not in descendants and _start_time(pid) == start]
-        if self.alive():
-            try:
-                os.killpg(self.process.pid, signal.SIGINT)
-                self.process.wait(timeout=timeout)
-            except subprocess.TimeoutExpired:
+        self.interrupt()
+        descendants = self._stopping or []
+        try:
+            self.process.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            with contextlib.suppress(ProcessLookupError):
                 os.killpg(self.process.pid, signal.SIGKILL)
-                self.process.wait(timeout=timeout)
-            except ProcessLookupError:
-                pass
+            self.process.wait(timeout=timeout)
         while time.monotonic() < deadline and self._group_alive():
             time.sleep(0.05)
         while time.monotonic() < deadline and any(_running(pid) for pid in descendants):
@@ -197,6 +208,8 @@ class RosMaster:
         return child
 
     def stop(self) -> None:
+        for child in reversed(self.children):
+            child.interrupt()
         for child in reversed(self.children):
             child.stop()
         self.children.clear()
