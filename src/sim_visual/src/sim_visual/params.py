@@ -216,8 +216,10 @@ class SimNodeParams:
     model_states_rate: float = 100.0  # /sim_visual/model_states [Hz, sim time]
     vision_rate: float = 30.0  # /<robot>/omnivision/OmniVisionInfo, or camera image [Hz, sim time]
     vision: str = ""  # robots seeing through the camera (RobotSelection: all, or names such as nubot1,rival2)
-    goalie_id: int = 1  # AgentID of each team's goalie (nubot_control's play/goalie_id); 0: none. A goalie of
-    # ``vision`` also gets its two RGB-D cameras' clouds (kinect_ball)
+    goalie_id: int = 1  # AgentID of the goalie of a team ``goalies`` does not name (nubot_control's play/goalie_id);
+    # 0: none. A goalie of ``vision`` also gets its two RGB-D cameras' clouds (kinect_ball)
+    goalies: str = ""  # each team's goalie by name, at most one a team (e.g. nubot1,rival3: the match runner's, from
+    # the team YAMLs); overrides goalie_id for the teams it names
     odometry_rate: float = 50.0  # their /<robot>/nubotdriver/odoinfo [Hz, sim time]
     imu_rate: float = 50.0  # their /<robot>/imu/data [Hz, sim time]
     camera_labels: bool = False  # also publish each image's colour classes (/<robot>/camera/labels)
@@ -233,12 +235,27 @@ class SimNodeParams:
             raise ValueError(f"goalie_id must lie in [0, {MAX_ROBOTS}] (0: no goalie), got {self.goalie_id}")
         try:
             RobotSelection.parse(self.vision)
+            goalies = RobotSelection.parse(self.goalies)
         except NubotCommonError as exc:
-            raise ValueError(f"vision: {exc}") from None
+            raise ValueError(f"vision or goalies: {exc}") from None
+        if goalies.every:
+            raise ValueError("goalies names one robot a team (e.g. nubot1,rival3), not all")
+        teams = [parse_robot_name(name).team for name in goalies.names]
+        if len(set(teams)) < len(teams):
+            raise ValueError(f"goalies names two robots of one team: {self.goalies!r}")
 
     @property
     def vision_robots(self) -> RobotSelection:
         return RobotSelection.parse(self.vision)
+
+    def is_goalie(self, name: str) -> bool:
+        """Whether robot ``name`` is its team's goalie: the one ``goalies`` names for its team, else AgentID
+        ``goalie_id``."""
+        robot = parse_robot_name(name)
+        named = RobotSelection.parse(self.goalies).names
+        if any(parse_robot_name(goalie).team == robot.team for goalie in named):
+            return name in named
+        return robot.agent_id == self.goalie_id
 
 
 @dataclass(frozen=True)

@@ -105,3 +105,18 @@ def test_sim_interface_parameters_are_checked(params, message):
     assert from_mapping(SimInterfaceParams, {"team": "rival", "team_size": 3}).team_size == 3
     with pytest.raises(NubotCommonError, match=message):
         from_mapping(SimInterfaceParams, params, "~")
+
+
+def test_each_team_s_goalie_is_the_one_goalies_names_else_the_agent_id_goalie_id():
+    params = SimNodeParams(goalies="nubot3,rival1")
+    assert [n for n in ("nubot1", "nubot3", "rival1", "rival3") if params.is_goalie(n)] == ["nubot3", "rival1"]
+    partly = SimNodeParams(goalie_id=2, goalies="rival4")
+    assert [n for n in ("nubot1", "nubot2", "rival2", "rival4", "other2") if partly.is_goalie(n)] == \
+        ["nubot2", "rival4", "other2"]
+    assert not any(SimNodeParams(goalie_id=0).is_goalie(n) for n in ("nubot1", "rival1"))
+    with pytest.raises(ValueError, match="two robots of one team"):
+        SimNodeParams(goalies="nubot1,nubot2")
+    with pytest.raises(ValueError, match="not all"):
+        SimNodeParams(goalies="all")
+    with pytest.raises(ValueError, match="'keeper' is not a robot name"):
+        from_mapping(SimNodeParams, {"goalies": "keeper"})

@@ -342,7 +342,8 @@ def play(argv: list[str] | None) -> int:
         watcher = run.watcher
         sim = master.launch("sim", ["roslaunch", "--skip-log-check", "sim_visual", "match.launch",
                                     f"real_time_factor:={args.real_time_factor}", f"seed:={args.seed}",
-                                    f"world:={world_path}", f"vision:={vision}"])
+                                    f"world:={world_path}", f"vision:={vision}",
+                                    "goalies:=" + ",".join(f"{c.prefix}{c.goalie}" for c in configs)])
         rospy.wait_for_service("/sim_visual/spawn_model", timeout=60)
         if args.viewer_port >= 0:
             start_viewer(master, args.viewer_port)
