@@ -32,7 +32,8 @@ from nubot_tools.processes import RosMaster
 RATE = 30.0  # [Hz] the fed world models and strategies, as world_model and nubot_control send them
 LCM_SHORT_MAGIC = 0x4C433032  # an LCM datagram carrying one whole message: magic, sequence, channel, NUL, payload
 FUZZ_MAX_DATAGRAM = 65_000  # [bytes]
-PACE_BYTES, PACE_PAUSE = 100_000, 0.002  # [bytes, s] the fuzzer pauses after sending this much
+PACE_BYTES, PACE_PAUSE = 100_000, 0.005  # [bytes, s] the fuzzer pauses after sending this much
+DATAGRAM_OVERHEAD = 1024  # [bytes] what a datagram costs a receiving socket's buffer beyond its payload
 
 
 def sign(team: str) -> float:
@@ -239,14 +240,15 @@ def fuzz(count: int, url: str, teams: list[str], seed: int = 0) -> dict[str, dic
         elif kind == "other_channel":
             channel, payload = f"FUZZ_{i % 13}", rng.bytes(int(rng.integers(0, 300)))
         else:
-            sock.sendto(rng.bytes(int(rng.integers(1, 1500))), (group, port))
-            sent[kind] += 1
-            continue
-        data = datagram(channel, payload, i)
+            channel, payload = "", b""
+        data = datagram(channel, payload, i) if channel else rng.bytes(int(rng.integers(1, 1500)))
         sock.sendto(data, (group, port))
         sent[kind] += 1
-        unpaced, largest = unpaced + len(data), max(largest, len(data))
-        if unpaced > PACE_BYTES:  # no receiver's socket buffer (about 200 kB) overflows: every datagram is counted
+        largest = max(largest, len(data))
+        # No receiver's socket buffer (about 200 kB) overflows, so every datagram is counted: a datagram takes its
+        # bytes there and the kernel's bookkeeping, about a kB more.
+        unpaced += len(data) + DATAGRAM_OVERHEAD
+        if unpaced > PACE_BYTES:
             time.sleep(PACE_PAUSE)
             unpaced = 0
     sock.close()
