@@ -94,7 +94,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     env = gymnasium.make(SCORE_AGAINST_GOALIE, max_steps=args.max_steps)
     seeds = range(args.episodes)
-    field = env.unwrapped.field  # type: ignore[attr-defined]
+    field = env.unwrapped.field
     policies: dict[str, Policy] = {"random": random_policy(env.action_space, 0),
                                    "scripted": ScriptedAttacker(field.half_length)}
     for name, policy in policies.items():

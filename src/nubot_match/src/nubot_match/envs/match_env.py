@@ -115,7 +115,8 @@ class MatchParallelEnv(ParallelEnv[str, np.ndarray, np.ndarray]):
               options: dict[str, Any] | None = None) -> tuple[dict[str, np.ndarray], dict[str, dict[str, Any]]]:
         """Seed the env's generator (``seed``, or keep it); the engine's seed is drawn from it. No options yet."""
         if seed is not None or self._np_random is None:
-            self._np_random, _ = seeding.np_random(seed)
+            generator: np.random.Generator = seeding.np_random(seed)[0]
+            self._np_random = generator
         self.match.reset(int(self._np_random.integers(ENGINE_SEEDS)))
         self.agents = list(self.possible_agents)
         self._cycles = 0
