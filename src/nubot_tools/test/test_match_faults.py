@@ -1,4 +1,5 @@
-"""The fault suite: kill each kind of node in the middle of a refereed match (``run_match.py``, 2 vs 2).
+"""The fault suite: kill each kind of node in the middle of a refereed match (``run_match.py``, 2 vs 2;
+1 vs 1 where only the match's own nodes die).
 
 The stated outcomes: a dead simulator, recorder, referee or master ends the match at once with a clear
 message and exit status 3 (``CUT_SHORT_STATUS``), leaving a complete, indexed bag up to the kill, a report
