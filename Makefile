@@ -42,11 +42,10 @@ evaluate: setup
 	  --field $(FIELD) --seed $(SEED) --tracker $(TRACKER) \
 	  $(if $(JOBS),--jobs $(JOBS),) $(if $(SCHEDULER),--scheduler $(SCHEDULER),)
 
-# Unit tests on every core (pytest-xdist, a test file per worker), then the integration tests one at a time:
-# each starts its own roscore and real-time nodes, which must not share the cores with other tests.
+# The integration tests one at a time (each starts its own roscore and real-time nodes) and, beside them at a
+# lower priority, the unit tests on every core (pytest-xdist, a test file per worker): scripts/run_tests.sh.
 test: lint
-	@$(ROS) { python -m pytest -m "not integration" -n auto --dist loadfile; unit=$$?; \
-	  python -m pytest -m integration; integration=$$?; exit $$(( unit != 0 ? unit : integration )); }
+	@$(ROS) bash scripts/run_tests.sh
 
 unit: setup
 	@$(ROS) python -m pytest -m "not integration" -n auto --dist loadfile
