@@ -235,9 +235,12 @@ class SimNodeParams:
             raise ValueError(f"goalie_id must lie in [0, {MAX_ROBOTS}] (0: no goalie), got {self.goalie_id}")
         try:
             RobotSelection.parse(self.vision)
+        except NubotCommonError as exc:
+            raise ValueError(f"vision: {exc}") from None
+        try:
             goalies = RobotSelection.parse(self.goalies)
         except NubotCommonError as exc:
-            raise ValueError(f"vision or goalies: {exc}") from None
+            raise ValueError(f"goalies: {exc}") from None
         if goalies.every:
             raise ValueError("goalies names one robot a team (e.g. nubot1,rival3), not all")
         teams = [parse_robot_name(name).team for name in goalies.names]

@@ -118,5 +118,5 @@ def test_each_team_s_goalie_is_the_one_goalies_names_else_the_agent_id_goalie_id
         SimNodeParams(goalies="nubot1,nubot2")
     with pytest.raises(ValueError, match="not all"):
         SimNodeParams(goalies="all")
-    with pytest.raises(ValueError, match="'keeper' is not a robot name"):
+    with pytest.raises(ValueError, match="goalies: .*'keeper' is not a robot name"):
         from_mapping(SimNodeParams, {"goalies": "keeper"})
