@@ -91,12 +91,13 @@ def test_a_goalie_seeing_through_its_cameras_meets_a_lob_where_it_comes_down(ros
     from nubot_control.params import ControlParams
     from nubot_match.config import CONFIG
     from nubot_tools.bench_goalie import LOB_LIFT, ball_launch, seeded_shots
-    from sim_visual.params import PluginParams
+    from sim_visual.params import SimNodeParams
 
     world = load_world("18x12")
     shot = seeded_shots(1, 0, world)[0]  # a lob that scores at an empty goal (test_bench_goalie)
     assert shot["kind"] == "lob"
-    launch = ball_launch(shot, world, PluginParams(), -9.8)
+    sim_config = load_yaml(SimNodeParams, CONFIG["sim"]).sim  # the simulator's shipped configuration
+    launch = ball_launch(shot, world, sim_config.plugin, sim_config.physics.gravity)
     radius = world.ball.radius
     sim = ros_master.launch("goalie_sim", ["roslaunch", "sim_visual", "match.launch", f"vision:={GOALIE}",
                                            f"goalies:={GOALIE},rival1", "clock_rate:=200"])
