@@ -32,7 +32,7 @@ from nubot_tools.processes import RosMaster
 RATE = 30.0  # [Hz] the fed world models and strategies, as world_model and nubot_control send them
 LCM_SHORT_MAGIC = 0x4C433032  # an LCM datagram carrying one whole message: magic, sequence, channel, NUL, payload
 FUZZ_MAX_DATAGRAM = 65_000  # [bytes]
-PACE_BYTES, PACE_PAUSE = 100_000, 0.005  # [bytes, s] the fuzzer pauses after sending this much
+PACE_BYTES, PACE_PAUSE = 100_000, 0.01  # [bytes, s] the fuzzer pauses after sending this much
 DATAGRAM_OVERHEAD = 1024  # [bytes] what a datagram costs a receiving socket's buffer beyond its payload
 
 
