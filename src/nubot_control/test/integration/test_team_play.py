@@ -121,10 +121,13 @@ def test_killing_a_control_node_hands_its_role_to_a_teammate(match):
         other = "nubot3" if victim == "nubot2" else "nubot2"
         subprocess.run(["rosnode", "kill", f"/{victim}/nubot_control"], env=master.env, check=True,
                        capture_output=True, timeout=20)
+        killed = time.monotonic()
         watch.wait(lambda: watch.roles[other][1] == 1 and time.monotonic() - watch.roles[other][0] < 1.0, 20,
                    f"{other} to take over the ACTIVE role")
-        assert time.monotonic() - watch.roles[victim][0] > 1.0, "the killed node is silent"
-        watch.wait(lambda: watch.roles[other][1] == 1, 5, "the role to stay")
+        time.sleep(1.0)
+        # a message already on the wire may land just after the kill; none may come later
+        assert watch.roles[victim][0] < killed + 0.5, "the killed node is silent"
+        assert watch.roles[other][1] == 1, "the role stays"
     finally:
         stop(*pubs)
 
