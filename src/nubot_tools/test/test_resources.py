@@ -8,7 +8,10 @@ import pytest
 
 from nubot_tools.resources import ResourceLog, growth, node_label, plot_resources
 
-GROWER = "import time\nheld = []\nwhile True:\n    held.append(bytearray(2**20)); time.sleep(0.05)\n"  # 20 MiB/s
+# 20 MiB per second of wall time, caught up after each sleep (a busy machine wakes it late)
+GROWER = ("import time\nstart, held = time.monotonic(), []\nwhile True:\n"
+          "    while len(held) < 20 * (time.monotonic() - start):\n        held.append(bytearray(2**20))\n"
+          "    time.sleep(0.05)\n")
 FLAT = "import time\nheld = bytearray(2**24)\nwhile True:\n    time.sleep(0.05)\n"
 
 
