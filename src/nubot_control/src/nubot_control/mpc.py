@@ -183,7 +183,6 @@ class LaguerreMpc:
         accel = p.max_accel * p.dt * self._apothem
         self._accel_upper = np.full(nc * count, accel)
         self._accel_lower = -self._accel_upper if self._two_sided else np.full(nc * count, -np.inf)
-        speed_lower, speed_upper = self._speed_bounds(np.zeros(2), p.max_speed)
         self._qp_hessian = np.ascontiguousarray(np.kron(np.eye(2), hessian))
         self._qp_rows = np.ascontiguousarray(np.vstack((self._a_speed, self._a_accel)))
         self._qp_sense = np.zeros(len(self._qp_rows), dtype=np.intc)  # every row an inequality
