@@ -8,7 +8,7 @@ import yaml
 from nubot_common.commands import BodyVelocity, RobotCommand
 from nubot_match import NubotMatchError
 from nubot_match.config import load_team, match_config
-from nubot_match.engine import LockstepMatch, Periodic
+from nubot_match.engine import LockstepMatch
 from nubot_match.record import MatchEvents, MatchListener, MatchLogRecorder
 from nubot_tools import match_analysis as ma
 from nubot_tools.workspace import TEAMS
@@ -41,16 +41,6 @@ def small_teams(tmp_path, robots=2, home_extra=None):
                                         "robots": poses, **extra}))
         paths.append(path)
     return paths
-
-
-def test_a_periodic_task_fires_once_per_period_without_drifting():
-    task = Periodic(1.0 / 33.0)
-    fired = [k * 0.005 for k in range(200_000) if task.due(k * 0.005)]  # 1000 s of 5 ms steps
-    assert fired[0] == 0.0
-    assert len(fired) == pytest.approx(1000 * 33, abs=1)  # 33 Hz over 1000 s, not 1000 / 0.035
-    assert all(b - a in (pytest.approx(0.030), pytest.approx(0.035)) for a, b in zip(fired, fired[1:]))
-    with pytest.raises(NubotMatchError, match="period must be positive"):
-        Periodic(0.0)
 
 
 def test_one_step_is_one_control_cycle_and_the_rates_are_a_ros_match_s(tmp_path):

@@ -34,6 +34,7 @@ from nubot_common.commands import RobotCommand
 from nubot_common.match_mode import MatchMode
 from nubot_common.naming import parse_robot_name
 from nubot_common.percepts import RobotView
+from nubot_common.schedule import EPS, Periodic
 from nubot_common.team_play import StrategyReport
 from nubot_control.agent import AgentStep, RobotAgent
 from nubot_match import NubotMatchError
@@ -44,30 +45,7 @@ from sim_visual.relay import TeamRelay
 from sim_visual.simulator import BallKicked, BallTouched, GoalScored, SimEvent, Simulator
 from sim_visual.world import BallState
 
-_EPS = 1e-9  # schedule tolerance [s]
 STATE_PERIOD = 1.0  # the referee's state is recorded at least this often [s] (referee.yaml state_period)
-
-
-class Periodic:
-    """Due times of one periodic task in sim time: due at 0, then every ``period`` [s], never drifting."""
-
-    def __init__(self, period: float, start: float = 0.0):
-        if not period > 0.0:
-            raise NubotMatchError(f"a period must be positive, got {period}")
-        self.period = period
-        self.count = 0
-        self.start = start
-
-    @property
-    def next(self) -> float:
-        return self.start + self.count * self.period
-
-    def due(self, t: float) -> bool:
-        """True (and advance) when ``t`` reached the next due time; one call fires at most once."""
-        if t + _EPS >= self.next:
-            self.count = max(self.count + 1, math.floor((t + _EPS - self.start) / self.period) + 1)
-            return True
-        return False
 
 
 @dataclass
@@ -177,9 +155,9 @@ class LockstepMatch:
         out = MatchStep(sim.time)
         while True:
             self._physics_step(actions or {}, out)
-            if self.done or sim.time + _EPS >= end:
+            if self.done or sim.time + EPS >= end:
                 break
-            if seconds is None and min(s.next for s in self._control.values()) <= sim.time + _EPS:
+            if seconds is None and min(s.next for s in self._control.values()) <= sim.time + EPS:
                 break
         out.time, out.done = sim.time, self.done
         return out
@@ -190,7 +168,7 @@ class LockstepMatch:
         sim = self._require_sim()
         ticker = Periodic(progress_period, sim.time)
         out = MatchStep(sim.time)
-        while not self.done and (until is None or sim.time + _EPS < until):
+        while not self.done and (until is None or sim.time + EPS < until):
             self._physics_step({}, out)
             out.events.clear()
             out.decisions.clear()
