@@ -270,6 +270,10 @@ def test_the_front_camera_s_and_the_rgbd_ball_are_fused_and_the_flight_is_publis
             front_pub.publish(msg)
 
         watcher.wait_sim(0.5, every_frame=front)
+        with watcher.lock:  # a robot without a 3-D ball sends no flights: one to say it went, then none
+            last_known = max(i for i, f in enumerate(watcher.flights) if f.ball.pos_known_3d)
+            after = watcher.flights[last_known + 1:]
+        assert [f.ball.pos_known_3d for f in after] == [False], "once without the 3-D ball, then nothing"
         info = watcher.latest
         me, ball = info.robotinfo[0], info.ballinfo[0]
         theta = me.heading.theta
