@@ -22,6 +22,8 @@ def test_quick_run_writes_positive_figures(tmp_path):
             assert case[key] > 0, (tracker, key)
         assert case["sim_seconds"] == pytest.approx(10.0, abs=0.01)
         assert case["agent_cycles"] == pytest.approx(10 * 33 * 10, rel=0.1)  # 10 robots at 33 Hz for 10 s
+        assert case["agent_cycle_in_physics_steps"] == pytest.approx(
+            case["us_per_agent_cycle"] / case["us_per_physics_step"], rel=0.02)
     physics = data["physics"]
     assert physics["simulator"]["steps_per_second"] > 0 and physics["simulator"]["robots"] == 10
     assert physics["simulator"]["samples_with_robot_contact_share"] > 0  # the robots do meet

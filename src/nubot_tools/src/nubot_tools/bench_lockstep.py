@@ -209,6 +209,9 @@ def lockstep_case(tracker: str, d: Durations, cpu: int | None, listeners: Sequen
         "physics_steps": physics.calls, "physics_steps_per_second": _r(physics.calls / clock.wall, 1),
         "us_per_physics_step": _us(physics.seconds, physics.calls),
         "us_per_physics_step_ode": _us(ode_part.seconds, ode_part.calls),
+        # The machine's speed drifts between runs (up to 40 % here); this ratio of two times of one run does not.
+        "agent_cycle_in_physics_steps": _r(agent_seconds / agent_calls / (physics.seconds / physics.calls))
+        if agent_calls and physics.calls and physics.seconds > 0 else None,
         "us_per_vision_frame_sensing": _us(sensing.seconds, sensing.calls),
         "us_per_vision_frame_world_model": _us(vision_seconds, vision_calls),
         "wall_share": {"agents": _r(agent_seconds / clock.wall, 3), "physics": _r(physics.seconds / clock.wall, 3),
@@ -548,7 +551,8 @@ def table(results: dict) -> str:
     lines += [f"{label.replace(chr(10), ' '):<34}{value:>16.2f}" for label, value in scenarios(results)]
     for tracker, case in results.get("lockstep", {}).items():
         lines.append(f"lockstep {tracker}: {case['agent_cycles_per_second']:.0f} agent cycles/s, "
-                     f"{case['us_per_agent_cycle']} us/agent cycle, {case['us_per_physics_step']} us/physics step, "
+                     f"{case['us_per_agent_cycle']} us/agent cycle, {case['us_per_physics_step']} us/physics step "
+                     f"(an agent cycle costs {case['agent_cycle_in_physics_steps']} physics steps), "
                      f"cpu share {case['cpu_share']}")
     physics = results.get("physics", {})
     if physics:

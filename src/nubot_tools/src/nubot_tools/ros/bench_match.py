@@ -24,7 +24,7 @@ from nubot_tools.workspace import WORKSPACE
 PLAY = ("goals", "passes_completed", "passes_tried", "shots", "running_share", "collisions_per_minute",
         "collisions", "ball_reach_median_s", "ball_reach_mean_s")
 PERFORMANCE = ("achieved_real_time_factor", "control_rate_min_hz", "missed_cycle_share", "cpu_cores_total",
-               "rss_mib_total")
+               "cpu_core_seconds_per_sim_second", "rss_mib_total")
 TRAFFIC = ("messages_per_second", "deliveries_per_second")
 
 

@@ -141,6 +141,8 @@ class PerfMonitor:
             "missed_cycle_share": round(1 - sum(self.counts.values()) / (expected * len(self.counts)), 4)
             if expected > 0 else None,
             "cpu_cores_by_kind": cpu, "cpu_cores_total": round(sum(cpu.values()), 2),
+            # What a simulated second costs, however fast the saturated machine let the match run.
+            "cpu_core_seconds_per_sim_second": round(sum(cpu.values()) * wall / sim, 2) if sim > 0 else None,
             "rss_mib_total": round(max(s["rss_mib"] for s in samples), 1),
             "cpus": os.cpu_count(),
             "subscribers": self.subscribers,
