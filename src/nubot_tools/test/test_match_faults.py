@@ -232,3 +232,18 @@ def test_a_dead_simulator_referee_or_master_ends_the_match_at_once_with_a_comple
     # up to the kill: the last clock ticks the simulator sent as it died may reach the runner and not the recorder
     assert bag_end(folder / "match.bag") >= before - 0.1, "the bag is closed and holds the match up to the kill"
     assert leftovers(match.master) == [], "nothing of the match runs on"
+
+
+def test_a_simulator_that_refuses_to_start_ends_the_run_at_once_saying_why(tmp_path, one_vs_one):
+    """The simulator is the one judge of its parameters: the runner hands its refusal on, not a timeout later."""
+    started = time.monotonic()
+    done = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "run_match.py"), "--half-seconds", "10", "--halves", "1",
+         "--out", str(tmp_path / "matches"), "--viewer-port", "-1", "--real-time-factor", "500", *one_vs_one],
+        capture_output=True, text=True, timeout=120)
+    took = time.monotonic() - started
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "match not started: the simulator's launch ended at start" in done.stderr
+    assert "real_time_factor must be at most 100" in done.stderr, done.stderr  # the end of its log
+    assert "Traceback" not in done.stderr.split("the end of")[0]
+    assert took < 45.0, f"{took:.0f} s: the runner waited for a simulator that was gone"

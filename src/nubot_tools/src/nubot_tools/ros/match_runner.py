@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -237,6 +238,26 @@ def _clock(seconds: float) -> str:
     return f"{int(seconds // 60):02d}:{seconds % 60:04.1f}"
 
 
+def wait_for_simulator(sim: Launched, timeout: float) -> str | None:
+    """None once the simulator offers its spawn service; else why not: its launch ended (the end of its log
+    says how), or ``timeout`` [s] passed."""
+    import rospy
+
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if not sim.alive():
+            text = re.sub(r"\x1b\[[0-9;]*m", "", sim.log_text())  # roslaunch's colours
+            tail = "\n".join("    " + line for line in text.splitlines()[-12:])
+            return f"the simulator's launch ended at start (status {sim.process.returncode}); the end of " \
+                   f"{sim.log_path}:\n{tail}"
+        try:
+            rospy.wait_for_service("/sim_visual/spawn_model", timeout=1.0)
+            return None
+        except rospy.ROSException:
+            continue
+    return f"the simulator did not offer /sim_visual/spawn_model within {timeout:.0f} s (its log: {sim.log_path})"
+
+
 def wait_for_robots(names: list[str], timeout: float, stop: Callable[[], bool] = lambda: False) -> list[str]:
     """Wait until every robot publishes its world model (or ``stop()`` says so); return the ones still silent."""
     import rospy
@@ -346,7 +367,11 @@ def play(argv: list[str] | None) -> int:
                                     f"real_time_factor:={args.real_time_factor}", f"seed:={args.seed}",
                                     f"world:={world_path}", f"vision:={vision}",
                                     "goalies:=" + ",".join(f"{c.prefix}{c.goalie}" for c in configs)])
-        rospy.wait_for_service("/sim_visual/spawn_model", timeout=60)
+        failure = wait_for_simulator(sim, timeout=60.0)
+        if failure is not None:
+            print(f"match not started: {failure}", file=sys.stderr, flush=True)
+            rospy.signal_shutdown("the simulator did not start")
+            return 1
         if args.viewer_port >= 0:
             start_viewer(master, args.viewer_port)
         # A recorder that dies leaves match.bag.active: MatchRun.finish reindexes it into match.bag. What it
