@@ -223,7 +223,8 @@ class SimNodeParams:
     odometry_rate: float = 50.0  # their /<robot>/nubotdriver/odoinfo [Hz, sim time]
     imu_rate: float = 50.0  # their /<robot>/imu/data [Hz, sim time]
     camera_labels: bool = False  # also publish each image's colour classes (/<robot>/camera/labels)
-    clock_rate: float = 1000.0  # /clock at most this often [Hz, sim time]; at least once a step
+    clock_rate: float = 1000.0  # /clock this often [Hz, sim time], on the first step at or after each due time (at
+    # most once a step: 1000 Hz on 5 ms steps is every step)
     gui: bool = False  # no viewer exists yet: true only warns and runs headless
 
     def __post_init__(self) -> None:
