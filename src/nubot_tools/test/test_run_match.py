@@ -86,8 +86,9 @@ def watch_and_coach(url: str) -> str:
     return "DROPBALL for nubot"
 
 
-def replay_and_slide(bag: Path) -> None:
-    """The replay page over the match's bag: the slider takes the robots where they were."""
+def replay_and_slide(bag: Path, kickoff: float) -> None:
+    """The replay page over the match's bag: the slider takes the robots where they were, from the kickoff
+    (``kickoff``, sim time: every robot is on the field by then) to 15 s into play."""
     process = subprocess.Popen([sys.executable, str(ROOT / "scripts" / "replay.py"), str(bag), "--port", "0",
                                 "--paused"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                start_new_session=True)
@@ -98,14 +99,17 @@ def replay_and_slide(bag: Path) -> None:
             page.wait_for(lambda: page.frame(), 20, "the first replayed frame")
             start = page.frame()
             assert start["replay"]["playing"] is False and "DROPBALL for nubot" in page.text("marks")
-            page.slide("slider", start["t"] + 25.0)
-            page.wait_for(lambda: abs(page.frame()["t"] - (start["t"] + 25.0)) < 0.2, 10, "the slider's time")
+            # (the robots spawn after the recorder started: the bag's first frames may hold none of them)
+            page.slide("slider", kickoff)
+            page.wait_for(lambda: abs(page.frame()["t"] - kickoff) < 0.2, 10, "the slider at the kickoff")
+            placed = page.frame()
+            page.slide("slider", kickoff + 15.0)
+            page.wait_for(lambda: abs(page.frame()["t"] - (kickoff + 15.0)) < 0.2, 10, "the slider's time")
             moved = page.frame()
-            before = {r["name"]: (r["x"], r["y"]) for r in start["robots"]}
-            # (a robot spawned after the recorder started is not in the bag's first frame)
-            shifts = [np.hypot(r["x"] - before[r["name"]][0], r["y"] - before[r["name"]][1]) for r in moved["robots"]
-                      if r["name"] in before]
-            assert shifts and max(shifts) > 1.0, f"the robots stayed where they were: {shifts}"
+            before = {r["name"]: (r["x"], r["y"]) for r in placed["robots"]}
+            assert len(before) == 4, f"the robots at the kickoff: {sorted(before)}"
+            shifts = [np.hypot(r["x"] - before[r["name"]][0], r["y"] - before[r["name"]][1]) for r in moved["robots"]]
+            assert max(shifts) > 1.0, f"the robots stayed where they were: {shifts}"
             page.click("#play")
             page.wait_for(lambda: page.frame()["t"] > moved["t"] + 1.0, 10, "the replay playing on")
             page.screenshot(ARTIFACTS / "viewer_replay.png")
@@ -150,4 +154,4 @@ def test_short_two_vs_two_match_on_the_22_by_14_field_is_watched_recorded_report
     x, y = goalie.xy[np.searchsorted(goalie.t, kickoff)]
     assert (x, y) == pytest.approx((-10.6, 0.0), abs=0.3), "the goalie waited on the 22 x 14 goal line"
     assert any(decision in r.last_event for r in log.referee), "the page's command is in the bag"
-    replay_and_slide(folder / "match.bag")
+    replay_and_slide(folder / "match.bag", kickoff)
