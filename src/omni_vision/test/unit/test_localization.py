@@ -518,7 +518,8 @@ def test_bad_params_raise_naming_the_field(change, name):
 
 
 def test_tracking_and_global_search_are_fast_enough():
-    """Loose guards against slowdowns (the report's figures come from quiet runs): tracking < 5 ms, search < 100 ms."""
+    """Loose guards against slowdowns (the report's figures come from quiet runs): tracking < 5 ms, search < 100 ms
+    of this process's CPU time, which other processes on a busy machine (make test's other suites) do not add to."""
     field = FieldGeometry.msl_current()
     rng = np.random.default_rng(99)
     truth = Pose2D(3.0, -2.0, 0.8)
@@ -527,13 +528,13 @@ def test_tracking_and_global_search_are_fast_enough():
     searches = []
     for k, points in enumerate(frames):
         locator.reset()
-        start = time.perf_counter()
+        start = time.process_time()
         locator.correct(k * FRAME, points, heading=truth.theta)
-        searches.append(time.perf_counter() - start)
+        searches.append(time.process_time() - start)
     tracks = []
     for k in range(60):
-        start = time.perf_counter()
+        start = time.process_time()
         locator.correct((k + 10) * FRAME, frames[k % 5], heading=truth.theta)
-        tracks.append(time.perf_counter() - start)
+        tracks.append(time.process_time() - start)
     assert locator.estimate.localized
     assert float(np.median(tracks)) < 0.005 and float(np.median(searches)) < 0.1
