@@ -144,3 +144,18 @@ def test_a_field_that_constructs_has_all_lines_inside():
     except ValueError:
         return
     assert all(_on_or_inside(field, p) for segment in field.line_segments() for p in segment)
+
+
+@pytest.mark.parametrize(("x", "y", "z", "side"), [
+    (9.3, 0.0, 0.11, 1),
+    (-9.3, 0.5, 0.5, -1),
+    (-9.12, 1.15, 0.11, -1),  # came in grazing a post: between the side nets, wholly behind the line
+    (9.5, -1.2, 0.85, 1),  # in a back corner, under the bar
+    (9.05, 0.0, 0.11, 0),  # on the line, not wholly behind it
+    (9.3, 1.5, 0.11, 0),  # beside the goal, outside its side net
+    (9.3, 0.0, 1.15, 0),  # on the top net
+    (9.75, 0.0, 0.11, 0),  # behind the back net
+    (50.0, 0.0, 0.11, 0),
+])
+def test_goal_holding_is_the_ball_wholly_behind_a_goal_line_inside_the_nets(x, y, z, side):
+    assert FieldGeometry().goal_holding(x, y, z, 0.11) == side

@@ -142,12 +142,9 @@ class AutomaticReferee:
         return self._check_stuck(snap)
 
     def _goal_by_geometry(self, x: float, y: float, z: float) -> int | None:
-        """A goal the simulator's event has not reported yet: the whole ball beyond the line, inside the mouth,
-        and inside the goal (a ball far beyond the goal line, e.g. one set there by hand, is out, not a goal)."""
-        f, r = self.params.field, self.params.ball_radius
-        if f.half_length + r < abs(x) <= f.half_length + f.goal_depth and f.is_in_goal_mouth(y, z, r):
-            return _sign(x)
-        return None
+        """A goal the simulator's event has not reported yet: the ball lies in a goal, by the simulator's own test
+        (``FieldGeometry.goal_holding``), so the two agree on every state the referee sees."""
+        return self.params.field.goal_holding(x, y, z, self.params.ball_radius) or None
 
     def _ball_out_over_side_line(self, snap: WorldSnapshot) -> RefereeDecision:
         p, f = self.params, self.params.field

@@ -127,6 +127,37 @@ def test_goal_is_seen_by_geometry_before_the_simulator_reports_it(match):
     assert "kickoff for nubot" in decision.event
 
 
+@pytest.mark.parametrize(("shot", "goals"), [
+    ((-8.0, 0.95, 0.44, -5.08, 0.68, 2.13), 1),  # a lob that grazes a post on its way in
+    ((-8.0, 1.02, 0.26, -7.1, 0.49, 2.01), 1),
+    ((-8.0, 0.0, 0.11, -6.0, 0.0, 0.0), 1),
+    ((-8.0, 2.0, 0.11, -6.0, 0.0, 0.0), 0),  # wide of the post
+    ((-8.0, 0.0, 1.3, -6.0, 0.0, 1.0), 0),  # over the bar
+])
+def test_on_the_simulator_s_states_alone_the_referee_scores_what_the_simulator_scores(match, shot, goals):
+    """Its goal events may come late over ROS: judged on the 100 Hz states alone the referee must agree with the
+    simulator's goals, or the two would tell different scores."""
+    from sim_visual.params import SimConfig
+    from sim_visual.simulator import GoalScored, Simulator
+    from sim_visual.world import BallState
+
+    match.kickoff_and_play()
+    sim = Simulator(SimConfig(robots=(), ball_start=(0.0, 0.0)))
+    sim.world.set_ball_state(BallState(*shot))
+    simulated, decision = [], None
+    while decision is None and sim.time < 1.5:
+        simulated += [e for e in sim.step() + sim.step() if isinstance(e, GoalScored)]  # two 5 ms steps
+        b = sim.world.ball_state()
+        match.ball = (b.x, b.y, b.z)
+        decision = match.step(0.01, last_touch="nubot1")
+    assert [g.side for g in simulated] == [-1] * goals
+    assert match.game.state().score == (0, goals)
+    if goals:
+        assert "goal for rival" in decision.event
+    else:
+        assert "ball out over the goal line" in decision.event
+
+
 def test_a_ball_far_beyond_the_goal_line_in_line_with_the_goal_is_out_not_a_goal(match):
     match.kickoff_and_play()
     match.ball = (50.0, 0.0, 0.11)

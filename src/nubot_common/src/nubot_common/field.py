@@ -2,7 +2,8 @@
 
 Provides: ``FieldGeometry`` (frozen, validated), with the 2015 18 x 12 m field of the
 chapter as default and ``FieldGeometry.msl_current()`` for the 22 x 14 m field of the current
-rules; goal-post positions, inside/outside tests and every white marking: ``line_segments``
+rules; goal-post positions, inside/outside tests (``goal_holding``: which goal a ball lies in, i.e. a goal)
+and every white marking: ``line_segments``
 (touch, goal and halfway lines, penalty and goal areas), ``arcs`` (centre circle, corner arcs)
 and ``spots`` (centre spot, penalty marks).
 Parameters [m] (letters of the MSL rulebook's field drawing): length A, width B, goal_width
@@ -94,6 +95,28 @@ class FieldGeometry:
     def is_in_goal_mouth(self, y: float, z: float, ball_radius: float) -> bool:
         """True when a ball centred at lateral y and height z passes wholly between the posts and under the bar."""
         return abs(y) <= self.goal_width / 2.0 - ball_radius and z <= self.goal_height - ball_radius
+
+    @property
+    def goal_outer_half_width(self) -> float:
+        """Half the goal's width outside its posts, where its side nets hang [m]."""
+        return self.goal_width / 2.0 + 2.0 * self.post_radius
+
+    def goal_holding(self, x: float, y: float, z: float, ball_radius: float) -> int:
+        """The goal that holds a ball centred at (x, y, z): 1 (at +x), -1 (at -x) or 0 (none).
+
+        Held means wholly behind the goal line, before the back net, inside the side nets and under the bar. The
+        goal is closed by posts, bar and nets except between the posts under the bar, so a ball that came in from
+        the field and is held has crossed the line there: a goal. This is the one test of a goal, judged on any
+        one state of the ball, so that the simulator (every physics step) and the referee (the states it is
+        sent) agree however far apart their looks are; a ball that enters grazing a post or the bar counts once
+        it is inside, as on a real field.
+        """
+        behind = abs(x) - self.half_length
+        if not ball_radius < behind <= self.goal_depth:
+            return 0
+        if abs(y) >= self.goal_outer_half_width or z >= self.goal_height:
+            return 0
+        return 1 if x > 0.0 else -1
 
     def line_segments(self) -> list[tuple[tuple[float, float], tuple[float, float]]]:
         """Straight white lines as ((x0, y0), (x1, y1)) pairs (centre circle excluded)."""

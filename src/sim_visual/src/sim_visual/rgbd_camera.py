@@ -200,7 +200,7 @@ class RgbdCameraRenderer:
             for px, py in posts:
                 hit(_vertical_cylinder(o, d, px, py, f.post_radius, f.goal_height), GOAL)
             hit(_bar(o, d, side * (f.half_length + f.post_radius), f.goal_height + f.post_radius, f.post_radius,
-                     f.goal_width / 2.0 + 2.0 * f.post_radius), GOAL)
+                     f.goal_outer_half_width), GOAL)
         centre = np.array([ball.x, ball.y, ball.z])
         if np.linalg.norm(centre - o) <= reach + world.ball.radius:
             hit(_sphere(o, d, centre, world.ball.radius), BALL)

@@ -22,7 +22,6 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 from nubot_common.commands import BodyVelocity, KickKind, RobotCommand
-from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate
 from nubot_common.naming import parse_robot_name
 from nubot_common.percepts import Ball3dPercept, RobotView
@@ -144,7 +143,7 @@ class Simulator:
         self.holder: str | None = None
         self.last_touch = ""
         self._reported_touch = ""
-        self._over_goal_line = False  # the ball was wholly beyond a goal line: no goal until it is back in play
+        self._goal_open = True  # False after a goal or a placement behind a goal line, until the ball is back in play
         for spawn in config.robots:
             self.spawn_robot(spawn)
         self._place_ball_start()
@@ -184,7 +183,7 @@ class Simulator:
     def _put_ball(self, state: BallState) -> None:
         """Place the ball from outside play: a ball put beyond a goal line has not crossed it."""
         self.world.set_ball_state(state)
-        self._over_goal_line = abs(state.x) > self.config.field.half_length + self.config.ball.radius
+        self._goal_open = abs(state.x) <= self.config.field.half_length + self.config.ball.radius
 
     def reset(self) -> None:
         """Put every robot and the ball back where they started, at rest; time keeps running."""
@@ -250,7 +249,7 @@ class Simulator:
     def _check_ball_state(self, s: BallState) -> None:
         name, field = self.config.ball_name, self.config.field
         _require_finite(name, s)
-        if not _is_in_goal(field, s.x, s.y, s.z):
+        if not field.goal_holding(s.x, s.y, s.z, 0.0):
             require_in_arena(name, s.x, s.y, field)
         if not 0.0 <= s.z <= MAX_BALL_HEIGHT:
             raise SimVisualError(f"{name}'s height z={s.z:g} m must lie in [0, {MAX_BALL_HEIGHT:g}] m")
@@ -484,23 +483,17 @@ class Simulator:
         self.world.set_ball_collides_with(None)
 
     def _detect_goal(self) -> GoalScored | None:
-        """A goal: the whole ball crosses a goal line between the posts, under the bar, into the goal."""
-        ball, field, r = self.world.ball_state(), self.config.field, self.config.ball.radius
-        beyond = abs(ball.x) > field.half_length + r
-        if not beyond:
-            if abs(ball.x) < field.half_length:
-                self._over_goal_line = False
+        """A goal: a ball that came from the field lies in a goal (``FieldGeometry.goal_holding``);
+        counted once, until the ball is back in play."""
+        ball, field = self.world.ball_state(), self.config.field
+        if abs(ball.x) < field.half_length:
+            self._goal_open = True
             return None
-        crossed, self._over_goal_line = not self._over_goal_line, True
-        if not crossed or not _is_in_goal(field, ball.x, ball.y, ball.z, r):
+        side = field.goal_holding(ball.x, ball.y, ball.z, self.config.ball.radius)
+        if not side or not self._goal_open:
             return None
-        return GoalScored(self.time, 1 if ball.x > 0 else -1, ball, self.last_touch)
-
-
-def _is_in_goal(field: FieldGeometry, x: float, y: float, z: float, radius: float = 0.0) -> bool:
-    """True when a ball of ``radius`` centred at (x, y, z) lies wholly behind a goal line inside that goal."""
-    return (field.half_length + radius <= abs(x) <= field.half_length + field.goal_depth
-            and field.is_in_goal_mouth(y, z, radius))
+        self._goal_open = False
+        return GoalScored(self.time, side, ball, self.last_touch)
 
 
 def _require_finite(name: str, state: RobotState | BallState) -> None:

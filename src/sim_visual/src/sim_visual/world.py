@@ -123,7 +123,7 @@ class PhysicsWorld:
                 post.setPosition((px, py, f.goal_height / 2.0))
                 self._classify(post, "post")
                 self._static.append(post)
-            outer_y = f.goal_width / 2.0 + 2.0 * f.post_radius
+            outer_y = f.goal_outer_half_width
             bar_x = side * (f.half_length + f.post_radius)
             self._static_box("post", (2 * f.post_radius, 2 * outer_y, 2 * f.post_radius),
                              (bar_x, 0.0, f.goal_height + f.post_radius))

@@ -167,6 +167,20 @@ def test_ball_rolling_into_the_goal_scores_once_and_the_net_stops_it(make_sim, r
     assert -sim.config.field.half_length - sim.config.field.goal_depth < ball.x < -sim.config.field.half_length
 
 
+@pytest.mark.parametrize("ball", [BallState(-8.0, 0.95, 0.44, -5.08, 0.68, 2.13),
+                                  BallState(-8.0, 1.02, 0.26, -7.1, 0.49, 2.01)])
+def test_a_lob_that_grazes_a_post_on_its_way_in_scores(make_sim, run, ball):
+    """Wholly behind the line it was still beside the post (not yet between the posts): it is a goal all the same,
+    once it is inside, as the referee sees it."""
+    sim = make_sim(robots=())
+    sim.world.set_ball_state(ball)
+    goals = [e for e in run(sim, 1.5) if isinstance(e, GoalScored)]
+    assert [g.side for g in goals] == [-1]
+    assert abs(goals[0].ball.y) > sim.config.field.goal_width / 2 - sim.config.ball.radius, "it came in at a post"
+    end = sim.world.ball_state()
+    assert sim.config.field.goal_holding(end.x, end.y, end.z, sim.config.ball.radius) == -1
+
+
 def test_ball_bounces_off_a_robot(make_sim, run):
     sim = make_sim(ball=(-2.0, 0.0))
     sim.world.set_ball_state(BallState(-2.0, 0.0, 0.11, 4.0, 0.0, 0.0, 0.0, 4.0 / 0.11, 0.0))
