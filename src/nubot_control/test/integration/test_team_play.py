@@ -112,26 +112,6 @@ def test_after_start_the_teams_play_the_ball(match):
         stop(*pubs)
 
 
-def test_killing_a_control_node_hands_its_role_to_a_teammate(match):
-    master, watch = match
-    pubs = coach(master, "nubot", 15), coach(master, "rival", 15)
-    try:
-        watch.wait(lambda: any(r == 1 for _, r in watch.roles.values()), 20, "an ACTIVE robot")
-        victim = next(n for n, (_, r) in watch.roles.items() if r == 1)
-        other = "nubot3" if victim == "nubot2" else "nubot2"
-        subprocess.run(["rosnode", "kill", f"/{victim}/nubot_control"], env=master.env, check=True,
-                       capture_output=True, timeout=20)
-        killed = time.monotonic()
-        watch.wait(lambda: watch.roles[other][1] == 1 and time.monotonic() - watch.roles[other][0] < 1.0, 20,
-                   f"{other} to take over the ACTIVE role")
-        time.sleep(1.0)
-        # a message already on the wire may land just after the kill; none may come later
-        assert watch.roles[victim][0] < killed + 0.5, "the killed node is silent"
-        assert watch.roles[other][1] == 1, "the role stays"
-    finally:
-        stop(*pubs)
-
-
 def test_running_match_graph_matches_the_topic_table(match):
     import re
     import xmlrpc.client
@@ -195,3 +175,24 @@ def test_a_node_built_against_the_original_messages_hears_ours(match, topic, nam
     finally:
         sub.unregister()
     assert cls._md5sum == received[0]._md5sum
+
+
+def test_killing_a_control_node_hands_its_role_to_a_teammate(match):
+    """Last in this module: it kills nubot2's or nubot3's control node, which the tests above listen to."""
+    master, watch = match
+    pubs = coach(master, "nubot", 15), coach(master, "rival", 15)
+    try:
+        watch.wait(lambda: any(r == 1 for _, r in watch.roles.values()), 20, "an ACTIVE robot")
+        victim = next(n for n, (_, r) in watch.roles.items() if r == 1)
+        other = "nubot3" if victim == "nubot2" else "nubot2"
+        subprocess.run(["rosnode", "kill", f"/{victim}/nubot_control"], env=master.env, check=True,
+                       capture_output=True, timeout=20)
+        killed = time.monotonic()
+        watch.wait(lambda: watch.roles[other][1] == 1 and time.monotonic() - watch.roles[other][0] < 1.0, 20,
+                   f"{other} to take over the ACTIVE role")
+        time.sleep(1.0)
+        # a message already on the wire may land just after the kill; none may come later
+        assert watch.roles[victim][0] < killed + 0.5, "the killed node is silent"
+        assert watch.roles[other][1] == 1, "the role stays"
+    finally:
+        stop(*pubs)
