@@ -245,14 +245,44 @@ def fuzz(count: int, url: str, teams: list[str], seed: int = 0) -> dict[str, dic
         sock.sendto(data, (group, port))
         sent[kind] += 1
         largest = max(largest, len(data))
-        # No receiver's socket buffer (about 200 kB) overflows, so every datagram is counted: a datagram takes its
-        # bytes there and the kernel's bookkeeping, about a kB more.
+        # Paced so that no receiver's socket buffer (about 200 kB) overflows while the links keep up: a datagram takes
+        # its bytes there and the kernel's bookkeeping, about a kB more. What a busy machine drops all the same is in
+        # kernel_drops.
         unpaced += len(data) + DATAGRAM_OVERHEAD
         if unpaced > PACE_BYTES:
             time.sleep(PACE_PAUSE)
             unpaced = 0
     sock.close()
     return {"by_kind": sent, "content_by_team": to_team, "largest": largest}
+
+
+def kernel_drops(master_uri: str, statuses: list[str], publishers: dict[str, list[str]]) -> dict[str, int]:
+    """Per status topic, the datagrams the kernel dropped at its link's UDP sockets (a full receive buffer, e.g. when
+    a busy machine does not run the link for a while): the drops column of this namespace's /proc/net/udp, for the
+    sockets the link's process holds. A link cannot count what it never received."""
+    dropped_at = {}
+    for line in Path("/proc/net/udp").read_text().splitlines()[1:]:
+        fields = line.split()
+        dropped_at[fields[9]] = int(fields[12])  # inode -> drops
+    master = xmlrpc.client.ServerProxy(master_uri)
+    counts = {}
+    for topic in statuses:
+        node = publishers[topic][0]
+        _code, _msg, api = master.lookupNode("/ns_team", node)
+        _code, _msg, pid = xmlrpc.client.ServerProxy(api).getPid("/ns_team")
+        inodes = set()
+        for fd in Path(f"/proc/{pid}/fd").iterdir():
+            try:
+                target = os.readlink(fd)
+            except OSError:
+                continue  # closed meanwhile
+            if target.startswith("socket:["):
+                inodes.add(target[len("socket:["):-1])
+        udp = inodes & dropped_at.keys()
+        if not udp:
+            raise RuntimeError(f"{node} (pid {pid}) holds no UDP socket in /proc/net/udp")
+        counts[topic] = sum(dropped_at[i] for i in udp)
+    return counts
 
 
 def main() -> int:
@@ -296,12 +326,14 @@ def main() -> int:
             result["measure"] = watcher.record(args.seconds)
             result["status"] = dict(watcher.status)
             if args.fuzz:
+                result["kernel_drops"] = kernel_drops(master.uri, statuses, result["publishers"])
                 fuzz_start = time.monotonic()
                 result["fuzz_sent"] = fuzz(args.fuzz, args.url, list(expect))
                 result["fuzz_seconds"] = time.monotonic() - fuzz_start
                 time.sleep(1.5)  # every link has handled what it got, and published its status
                 result["after_fuzz"] = watcher.record(2.0)
                 result["status_after_fuzz"] = dict(watcher.status)
+                result["kernel_drops_after_fuzz"] = kernel_drops(master.uri, statuses, result["publishers"])
             result["alive"] = nodes.alive()
         except RuntimeError as exc:
             result["error"] = str(exc)

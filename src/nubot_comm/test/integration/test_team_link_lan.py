@@ -134,7 +134,11 @@ def test_ten_thousand_bad_datagrams_are_counted_and_the_team_plays_on(one_lan):
         team = after["team"]
         counted = sum(drops(after)[r] - drops(before)[r] for r in CONTENT_REASONS)
         expected = sent["content_by_team"][team]
-        assert 0.97 * expected <= counted <= expected, f"{topic} counted {counted} of the {expected} bad datagrams"
+        # what the kernel dropped before the link could read it (its buffer full on a busy machine) is not the link's
+        lost = one_lan["kernel_drops_after_fuzz"][topic] - one_lan["kernel_drops"][topic]
+        assert lost < 0.2 * expected, f"{topic}: the kernel dropped {lost} datagrams at the link's socket"
+        assert 0.97 * expected - lost <= counted <= expected, \
+            f"{topic} counted {counted} of the {expected} bad datagrams ({lost} dropped by the kernel)"
         assert all(drops(after)[r] - drops(before)[r] > 0 for r in CONTENT_REASONS), drops(after)
     assert one_lan["alive"] and "Traceback" not in one_lan["log"]
     for link, samples in one_lan["after_fuzz"].items():
