@@ -8,11 +8,13 @@ import pytest
 
 from nubot_tools.resources import ResourceLog, growth, node_label, plot_resources
 
-# 20 MiB per second of wall time, caught up after each sleep (a busy machine wakes it late)
-GROWER = ("import time\nstart, held = time.monotonic(), []\nwhile True:\n"
+# 20 MiB per second of wall time, caught up after each sleep (a busy machine wakes it late). Each says "ready" once
+# started (the flat one after taking its 16 MiB), and the test measures from then on: a busy machine can start a
+# Python process more slowly than the warm-up.
+GROWER = ("import time\nstart, held = time.monotonic(), []\nprint('ready', flush=True)\nwhile True:\n"
           "    while len(held) < 20 * (time.monotonic() - start):\n        held.append(bytearray(2**20))\n"
           "    time.sleep(0.05)\n")
-FLAT = "import time\nheld = bytearray(2**24)\nwhile True:\n    time.sleep(0.05)\n"
+FLAT = "import time\nheld = bytearray(2**24)\nprint('ready', flush=True)\nwhile True:\n    time.sleep(0.05)\n"
 
 
 def test_node_label_is_the_nodes_full_name():
@@ -25,9 +27,10 @@ def test_node_label_is_the_nodes_full_name():
 
 
 def test_a_growing_process_shows_a_slope_and_a_flat_one_does_not(tmp_path):
-    children = [subprocess.Popen([sys.executable, "-c", code, f"__name:={name}"])
+    children = [subprocess.Popen([sys.executable, "-c", code, f"__name:={name}"], stdout=subprocess.PIPE, text=True)
                 for code, name in ((GROWER, "grower"), (FLAT, "flat"))]
     try:
+        assert [c.stdout.readline().strip() for c in children] == ["ready", "ready"]
         log = ResourceLog(lambda: [c.pid for c in children], clock=time.monotonic)
         start = time.monotonic()
         while time.monotonic() - start < 3.0:
