@@ -171,7 +171,8 @@ def test_a_node_built_against_the_original_messages_hears_ours(match, topic, nam
     received = []
     sub = rospy.Subscriber(topic, cls, received.append, queue_size=5)
     try:
-        wait_until(lambda: received, 10.0, f"a {name} on {topic} for a subscriber of the original type")
+        # a publisher answers new subscribers' handshakes one at a time (rospy), so a busy one can be slow to connect
+        wait_until(lambda: received, 30.0, f"a {name} on {topic} for a subscriber of the original type")
     finally:
         sub.unregister()
     assert cls._md5sum == received[0]._md5sum

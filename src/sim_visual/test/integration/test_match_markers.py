@@ -226,7 +226,8 @@ def test_the_field_and_the_scene_are_drawn(match):
         return scenes and {m.header.frame_id for m in scenes[-1].markers if m.type == Marker.LINE_STRIP} >= \
             {"nubot", "rival"}
     try:
-        wait_until(lambda: fields, 10.0, "the latched field markers", 0.05)
+        # a publisher answers new subscribers' handshakes one at a time (rospy), so a busy one can be slow to connect
+        wait_until(lambda: fields, 30.0, "the latched field markers", 0.05)
         wait_until(paths_drawn, 15.0, "both teams' paths in the scene (subscribed once the scene is watched)", 0.1)
     finally:
         for sub in subs:
