@@ -99,8 +99,10 @@ def test_a_goalie_seeing_through_its_cameras_meets_a_lob_where_it_comes_down(ros
     sim_config = load_yaml(SimNodeParams, CONFIG["sim"]).sim  # the simulator's shipped configuration
     launch = ball_launch(shot, world, sim_config.plugin, sim_config.physics.gravity)
     radius = world.ball.radius
+    # At half real time: the test asks what the goalie's software does, not whether a machine busy with make test's
+    # other suites keeps its camera pipeline within a frame of real time (a late start once let a lob in).
     sim = ros_master.launch("goalie_sim", ["roslaunch", "sim_visual", "match.launch", f"vision:={GOALIE}",
-                                           f"goalies:={GOALIE},rival1", "clock_rate:=200"])
+                                           f"goalies:={GOALIE},rival1", "clock_rate:=200", "real_time_factor:=0.5"])
     robot = coach = None
     watch = Watch()
     try:
