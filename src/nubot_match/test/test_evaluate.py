@@ -159,3 +159,24 @@ def test_a_team_naming_a_missing_strategy_module_is_refused_before_any_match(tmp
     done = evaluate("--home", home, "--away", away, "--matches", 2, "--out", tmp_path / "eval")
     assert done.returncode == 2
     assert "cannot import module 'my_missing_strategy'" in done.stderr and "Traceback" not in done.stderr
+
+
+def test_ctrl_c_inside_a_held_block_waits_for_its_end():
+    from nubot_match.evaluate import CtrlC
+
+    ctrl_c = CtrlC()
+    previous = signal.signal(signal.SIGINT, ctrl_c)
+    done = []
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with ctrl_c.held():
+                signal.raise_signal(signal.SIGINT)  # as if in the middle of writing a line
+                done.append("the line")
+        assert done == ["the line"], "the block ran to its end first"
+        with pytest.raises(KeyboardInterrupt):
+            signal.raise_signal(signal.SIGINT)  # outside: at once
+        with ctrl_c.held():
+            done.append("a later line")  # nothing left pending
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert done == ["the line", "a later line"]

@@ -27,6 +27,7 @@ import socket
 import sys
 import time
 from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass
 from datetime import datetime
 from pathlib import Path
@@ -292,24 +293,60 @@ def main(argv: list[str] | None = None) -> int:
 
     tqdm.monitor_interval = 0  # no monitor thread in a process that forks workers
     bar = tqdm(total=len(jobs), unit="match", file=sys.stderr, dynamic_ncols=True)
+    ctrl_c = CtrlC()
+    previous = signal.getsignal(signal.SIGINT)
+    if previous is not signal.SIG_IGN:  # a background job ignores Ctrl-C, and so do we then
+        signal.signal(signal.SIGINT, ctrl_c)
     try:
         for job, result, error in runner.results(jobs):
-            evaluation.add(job, result, error)
-            if result is None:
-                bar.write(f"  match {job.index + 1} (seed {job.seed}) failed: {error}")
-            else:
-                bar.write(f"  match {job.index + 1:>3} seed {job.seed}{' swapped' if job.swapped else ''}: "
-                          f"{home} {result.home['goals']:.0f} - {result.away['goals']:.0f} {away} "
-                          f"({result.sim_seconds:.0f} s simulated in {result.wall_seconds:.0f} s)")
-            bar.update(1)
+            with ctrl_c.held():
+                evaluation.add(job, result, error)
+                if result is None:
+                    bar.write(f"  match {job.index + 1} (seed {job.seed}) failed: {error}")
+                else:
+                    bar.write(f"  match {job.index + 1:>3} seed {job.seed}{' swapped' if job.swapped else ''}: "
+                              f"{home} {result.home['goals']:.0f} - {result.away['goals']:.0f} {away} "
+                              f"({result.sim_seconds:.0f} s simulated in {result.wall_seconds:.0f} s)")
+                bar.update(1)
         runner.close()
     except KeyboardInterrupt:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # stopping already: a second Ctrl-C changes nothing
         evaluation.interrupted = True
         bar.write(f"evaluate: interrupted; stopping the workers and keeping the {len(evaluation.results)} "
                   "finished matches")
         runner.stop()
     finally:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # the last lines and files are written whole
         bar.close()
     print(evaluation.finish(), flush=True)
     print(f"evaluate: {len(evaluation.results)} of {len(jobs)} matches finished; results in {out}", flush=True)
+    if previous is not None:  # None: a handler not set from Python
+        signal.signal(signal.SIGINT, previous)
     return 1 if evaluation.failures or evaluation.interrupted else 0
+
+
+class CtrlC:
+    """SIGINT's handler while matches are evaluated: Ctrl-C raises KeyboardInterrupt, except inside ``held()``, whose
+    end it then waits for. Raised inside tqdm's write it left tqdm's lock half taken, and the next write (the
+    "interrupted" line) failed with a traceback; inside the recording of a result it could lose that result."""
+
+    def __init__(self) -> None:
+        self._held = False
+        self._pending = False
+
+    def __call__(self, _signum: int, _frame: object) -> None:
+        if self._held:
+            self._pending = True
+        else:
+            raise KeyboardInterrupt
+
+    @contextmanager
+    def held(self) -> Iterator[None]:
+        self._held = True
+        try:
+            yield
+        finally:
+            self._held = False
+        if self._pending:
+            self._pending = False
+            raise KeyboardInterrupt
