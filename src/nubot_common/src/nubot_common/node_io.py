@@ -17,7 +17,8 @@ rospy's own handler for them runs in the main thread and tells the master that t
 lock-guarded connection to the master: arriving while the main thread is itself in a call to the master (a
 parameter, a registration, dynamic_reconfigure's set-up), it waits for that call's lock, which its own thread holds,
 forever. A node stopped while it started (a test, Ctrl-C at once) hung until roslaunch killed it 15 s later. Held,
-the signal is handled the moment the set-up is done, by rospy's handler as usual.
+the signal is handled the moment the set-up is done, by rospy's handler as usual. So a set-up must not wait for
+others (a service, a first message): that waits after the block, where Ctrl-C can end it.
 """
 
 from __future__ import annotations
