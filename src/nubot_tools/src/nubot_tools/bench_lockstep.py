@@ -333,7 +333,7 @@ def bench_pyode(steps: int, cpu: int | None, ring: float) -> dict:
         geom = ode.GeomCylinder(space, radius, height)
         geom.setBody(body)
         body.setPosition((x, y, height / 2 + 0.01))
-        plane = ode.Plane2DJoint(world)  # what PhysicsWorld's pinning does in Python, in C: no tilt, no lift
+        plane = ode.Plane2DJoint(world)  # as PhysicsWorld holds its robots: no lift, no tilting motion
         plane.attach(body, ode.environment)
         robots.append(body)
         geoms.append((geom, plane))

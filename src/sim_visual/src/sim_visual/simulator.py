@@ -59,6 +59,7 @@ _NO_NOISE = NoiseParams(position_std=0.0, velocity_std=0.0, self_position_std=0.
 _KICK_FLAG_TIME = 0.2  # RobotInfo.iskick stays true this long after a kick [s]
 _STUCK_MIN_COMMAND = 0.3  # commands slower than this never count as stuck [m/s]
 _STUCK_FILTER_TIME = 0.2  # time constant of the ground-speed estimate [s]
+_STUCK_EVERY = 4  # physics steps between two updates of the ground-speed estimate (20 ms at 5 ms steps)
 _LOB_LIFT = 0.01  # a lobbed ball starts this far above the carpet [m]
 
 
@@ -406,15 +407,15 @@ class Simulator:
         """Advance one physics step and return what happened in it."""
         dt = self.config.physics.step_size
         events: list[SimEvent] = []
-        params = self.plugin_params
+        timeout = self.plugin_params.command_timeout
+        stuck_due = self.steps % _STUCK_EVERY == 0
         for name, plugin in self.plugins.items():
             command = plugin.command
-            if params.command_timeout > 0.0 and self.time - plugin.command_time > params.command_timeout:
+            if timeout > 0.0 and self.time - plugin.command_time > timeout:
                 command = BodyVelocity()
-            state = self.world.robot_state(name)
-            vx, vy = rotate(command.vx, command.vy, state.theta)
-            self.world.set_robot_velocity(name, vx, vy, command.w)
-            self._update_stuck(plugin, command, state, dt)
+            if stuck_due:
+                self._update_stuck(plugin, command, self.world.robot_state(name), _STUCK_EVERY * dt)
+            self.world.drive_robot(name, command.vx, command.vy, command.w)
         self.world.set_ball_collides_with(self.holder)
         touched = self.world.step(dt)
         self.time = (self.steps + 1) * dt

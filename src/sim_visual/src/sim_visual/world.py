@@ -4,8 +4,8 @@ Requires: ``python3-pyode``. Provides: ``PhysicsWorld`` (add/remove robots, set
 robot velocities, read and set model states, ``step``) and the plain state
 records ``RobotState`` and ``BallState`` (world frame, SI units). Robots are
 driven kinematically in the plane (their body velocity is set every step, as
-Gazebo's SetLinearVel/SetAngularVel) but collide dynamically; the ball is a free
-sphere with rolling resistance. Contact properties come from one surface table.
+Gazebo's SetLinearVel/SetAngularVel) but collide dynamically, held upright on the
+carpet by an ODE plane joint; the ball is a free sphere with rolling resistance. Contact properties come from one surface table.
 """
 
 from __future__ import annotations
@@ -35,6 +35,7 @@ _ON_GROUND_TOLERANCE = 0.01  # [m]
 _GROUND, _STATIC, _ROBOT, _BALL = 1, 2, 4, 8
 _COLLIDES = {"ground": _BALL, "post": _ROBOT | _BALL, "net": _ROBOT | _BALL, "wall": _ROBOT | _BALL,
              "robot": _STATIC | _ROBOT | _BALL, "ball": _GROUND | _STATIC | _ROBOT}
+_OTHER, _BALL_ROBOT, _BALL_NET = 0, 1, 2  # contacts the step reports: the ball touched by a robot, in a net
 _CATEGORY = {"ground": _GROUND, "post": _STATIC, "net": _STATIC, "wall": _STATIC, "robot": _ROBOT, "ball": _BALL}
 
 
@@ -81,11 +82,13 @@ class PhysicsWorld:
         self._contacts = ode.JointGroup()
         self._kind: dict[ode.GeomObject, str] = {}
         self._robots: dict[str, tuple[ode.Body, ode.GeomObject]] = {}
+        self._planes: dict[str, ode.Plane2DJoint] = {}  # pyode destroys a joint nobody refers to
         self._robot_of_geom: dict[ode.GeomObject, str] = {}
         self._touched: set[str] = set()
         self._ball_holder: str | None = None
         self._ball_in_net = False
         self._static: list[ode.GeomObject] = []
+        self._surfaces = self._surface_table()
         # States read since the last change, by robot name: a step, an observation of every robot and the
         # controllers ask for the same states many times between two changes.
         self._robot_states: dict[str, RobotState] = {}
@@ -152,7 +155,7 @@ class PhysicsWorld:
         rb = self.robot_body
         body = ode.Body(self._world)
         mass = ode.Mass()
-        # Roll and pitch are pinned every step; only I_zz matters (Table 1).
+        # Roll and pitch are held by the plane joint; only I_zz matters (Table 1).
         mass.setParameters(rb.mass, 0.0, 0.0, 0.0, rb.inertia_zz, rb.inertia_zz, rb.inertia_zz, 0.0, 0.0, 0.0)
         body.setMass(mass)
         body.setGravityMode(False)
@@ -164,12 +167,18 @@ class PhysicsWorld:
         self._classify(holder, "robot")
         self._robot_of_geom[holder] = name
         self._robots[name] = (body, holder)
+        # On the carpet inside ODE's solver: no lift (z = 0), no tilting motion; contacts push it in the plane
+        # (what tilt a contact leaves, drive_robot rights).
+        plane = ode.Plane2DJoint(self._world)
+        plane.attach(body, ode.environment)
+        self._planes[name] = plane
         self.set_robot_state(name, RobotState(x, y, theta, 0.0, 0.0, 0.0))
 
     def remove_robot(self, name: str) -> None:
         body, holder = self._robot(name)
         self._space.remove(holder)
         del self._kind[holder], self._robot_of_geom[holder], self._robots[name]
+        self._planes.pop(name).attach(None, None)
         self._robot_states.pop(name, None)
         body.disable()
 
@@ -185,7 +194,7 @@ class PhysicsWorld:
             body, _ = self._robot(name)
             x, y, _z = body.getPosition()
             vx, vy, _vz = body.getLinearVel()
-            state = RobotState(x, y, quaternion_to_yaw(*_xyzw(body.getQuaternion())), vx, vy, body.getAngularVel()[2])
+            state = RobotState(x, y, _yaw(body), vx, vy, body.getAngularVel()[2])
             self._robot_states[name] = state
         return state
 
@@ -202,6 +211,20 @@ class PhysicsWorld:
         body, _ = self._robot(name)
         self._robot_states.pop(name, None)
         body.setLinearVel((vx, vy, 0.0))
+        body.setAngularVel((0.0, 0.0, w))
+
+    def drive_robot(self, name: str, vx: float, vy: float, w: float) -> None:
+        """Drive a robot with a velocity in its own frame [m/s] (x ahead) and yaw rate [rad/s], as its wheels
+        do: turned into the world frame by its heading now (what a physics step needs of it, nothing more)."""
+        body, _ = self._robot(name)
+        self._robot_states.pop(name, None)
+        # Every robot, every step: _yaw and rotate written out (ODE's quaternion order w, x, y, z).
+        qw, qx, qy, qz = body.getQuaternion()
+        yaw = math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
+        c, s = math.cos(yaw), math.sin(yaw)
+        if qx != 0.0 or qy != 0.0:  # ODE's plane joint leaves the tilt a contact gave to drift: set it upright
+            body.setQuaternion((math.cos(yaw / 2.0), 0.0, 0.0, math.sin(yaw / 2.0)))
+        body.setLinearVel((c * vx - s * vy, s * vx + c * vy, 0.0))
         body.setAngularVel((0.0, 0.0, w))
 
     # --- ball -------------------------------------------------------------------------
@@ -238,30 +261,26 @@ class PhysicsWorld:
         self._space.collide(None, self._near)
         self._world.step(dt)  # the exact solver: quickStep reorders constraints with a process-global RNG
         self._contacts.empty()
-        self._pin_robots_to_plane()
         if self._ball_in_net:
             self._absorb_in_net()
         self._apply_rolling_resistance(dt)
-        self._ball_state = None  # the robots' states are the pinning's
+        self._ball_state = None
         return self._touched
 
     def _near(self, _args: object, geom_a: ode.GeomObject, geom_b: ode.GeomObject) -> None:
         kind_a, kind_b = self._kind.get(geom_a), self._kind.get(geom_b)
-        if kind_a is None or kind_b is None:
+        surface = self._surfaces.get((kind_a, kind_b))
+        if surface is None:
             return
-        pair = frozenset((kind_a, kind_b))
-        # The collision categories keep robots off the carpet and static geometry off itself; kept here too.
-        if "ground" in pair and "robot" in pair or kind_a != "ball" and kind_b != "ball" and "robot" not in pair:
-            return
-        if "ball" in pair and "robot" in pair:
-            robot_geom = geom_a if kind_a == "robot" else geom_b
-            name = self._robot_of_geom[robot_geom]
-            if name == self._ball_holder:
+        mu, bounce, pair = surface
+        robot = None
+        if pair == _BALL_ROBOT:
+            robot = self._robot_of_geom[geom_a if kind_a == "robot" else geom_b]
+            if robot == self._ball_holder:
                 return
         contacts = ode.collide(geom_a, geom_b)
         if not contacts:
             return
-        mu, bounce = self._surface(pair)
         for contact in contacts:
             contact.setMu(mu)
             if bounce > 0.0:
@@ -269,43 +288,32 @@ class PhysicsWorld:
                 contact.setBounceVel(_BOUNCE_MIN_SPEED)
             joint = ode.ContactJoint(self._world, self._contacts, contact)
             joint.attach(geom_a.getBody(), geom_b.getBody())
-        if pair == {"ball", "net"}:
+        if robot is not None:
+            self._touched.add(robot)
+        elif pair == _BALL_NET:
             self._ball_in_net = True
-        if "ball" in pair and "robot" in pair:
-            self._touched.add(self._robot_of_geom[geom_a if kind_a == "robot" else geom_b])
 
-    def _surface(self, pair: frozenset[str]) -> tuple[float, float]:
-        """Friction coefficient and restitution of a contact between two kinds of geometry."""
+    def _surface_table(self) -> dict[tuple[str, str], tuple[float, float, int]]:
+        """By the kinds of two geometries (both orders): the friction coefficient and restitution of their
+        contacts, and whether they are the ball and a robot or the ball and a net. The pairs that never make
+        contacts are left out: static geometry with itself, robots gliding above the carpet (the collision
+        categories drop them inside ODE already)."""
         ball, robot = self.ball_body, self.robot_body
-        if pair == {"ball", "ground"}:
-            return ball.ground_friction, ball.restitution
-        if pair == {"ball", "net"}:
-            return 1.0, 0.0
-        if "ball" in pair:  # robots, posts, walls
-            return robot.friction, ball.restitution
-        return robot.friction, 0.0  # robot against robot, post, net or wall
-
-    def _pin_robots_to_plane(self) -> None:
-        """Keep every robot upright on the carpet (contacts tip and lift it a little) and cache its state.
-
-        Runs for every robot every step: only what moved off the plane is reset, and quaternion_to_yaw and
-        yaw_to_quaternion are written out (ODE's order w, x, y, z).
-        """
-        states = self._robot_states
-        for name, (body, _) in self._robots.items():
-            x, y, z = body.getPosition()
-            vx, vy, vz = body.getLinearVel()
-            wx, wy, wz = body.getAngularVel()
-            qw, qx, qy, qz = body.getQuaternion()
-            yaw = math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-            if z != 0.0 or qx != 0.0 or qy != 0.0:
-                body.setPosition((x, y, 0.0))
-                body.setQuaternion((math.cos(yaw / 2.0), 0.0, 0.0, math.sin(yaw / 2.0)))
-            if vz != 0.0:
-                body.setLinearVel((vx, vy, 0.0))
-            if wx != 0.0 or wy != 0.0:
-                body.setAngularVel((0.0, 0.0, wz))
-            states[name] = RobotState(x, y, yaw, vx, vy, wz)
+        table = {}
+        for a in _CATEGORY:
+            for b in _CATEGORY:
+                pair = {a, b}
+                if "ground" in pair and "robot" in pair or "ball" not in pair and "robot" not in pair:
+                    continue
+                if pair == {"ball", "ground"}:
+                    table[a, b] = ball.ground_friction, ball.restitution, _OTHER
+                elif pair == {"ball", "net"}:
+                    table[a, b] = 1.0, 0.0, _BALL_NET
+                elif "ball" in pair:  # robots, posts, walls
+                    table[a, b] = robot.friction, ball.restitution, _BALL_ROBOT if "robot" in pair else _OTHER
+                else:  # robot against robot, post, net or wall
+                    table[a, b] = robot.friction, 0.0, _OTHER
+        return table
 
     def _absorb_in_net(self) -> None:
         """A net gives way and swallows a shot: each step of contact keeps net_restitution of the horizontal motion.
@@ -334,9 +342,10 @@ class PhysicsWorld:
         self._ball.setAngularVel((wx * scale, wy * scale, wz * scale))
 
 
-def _xyzw(q_wxyz: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
-    w, x, y, z = q_wxyz
-    return x, y, z, w
+def _yaw(body: ode.Body) -> float:
+    """A body's heading [rad] (ODE's quaternion order is w, x, y, z)."""
+    w, x, y, z = body.getQuaternion()
+    return quaternion_to_yaw(x, y, z, w)
 
 
 def _wxyz(q_xyzw: tuple[float, float, float, float]) -> tuple[float, float, float, float]:

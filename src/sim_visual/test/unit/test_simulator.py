@@ -47,6 +47,24 @@ def test_robots_push_each_other_and_do_not_overlap(make_sim, run):
     assert b.x - a.x > 2 * sim.config.robot.radius - 0.05
 
 
+def test_robots_crashing_at_full_speed_stay_upright_on_the_carpet(make_sim, run):
+    # Head-on at 5 m/s each while turning, and into a goal post: contacts push the robots only in the plane.
+    sim = make_sim(robots=(("nubot1", -1.0, 0.0, 0.0), ("nubot2", 1.0, 0.1, math.pi), ("nubot3", 7.5, 0.9, 0.0)))
+    worst_lift, worst_tilt = 0.0, 0.0
+    for _ in range(200):
+        for name in ("nubot1", "nubot2", "nubot3"):
+            sim.command_velocity(name, 5.0, 0.0, 3.0 if name == "nubot1" else 0.0)
+        run(sim, 0.005)
+        for body, _geom in sim.world._robots.values():
+            _x, _y, z = body.getPosition()
+            _w, qx, qy, _z = body.getQuaternion()
+            worst_lift, worst_tilt = max(worst_lift, abs(z)), max(worst_tilt, 2 * math.hypot(qx, qy))
+    assert worst_lift < 0.005, "a robot left the carpet"
+    assert worst_tilt < 0.01, "a robot tipped over"
+    a, b = sim.world.robot_state("nubot1"), sim.world.robot_state("nubot2")
+    assert math.hypot(b.x - a.x, b.y - a.y) > 2 * sim.config.robot.radius - 0.05
+
+
 def test_ball_handle_refuses_a_far_ball_and_holds_a_near_one(make_sim, run):
     sim = make_sim(ball=(2.0, 0.0))
     assert sim.ball_handle("nubot1", 1) is False
