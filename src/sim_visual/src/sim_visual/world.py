@@ -5,7 +5,8 @@ robot velocities, read and set model states, ``step``) and the plain state
 records ``RobotState`` and ``BallState`` (world frame, SI units). Robots are
 driven kinematically in the plane (their body velocity is set every step, as
 Gazebo's SetLinearVel/SetAngularVel) but collide dynamically, held upright on the
-carpet by an ODE plane joint; the ball is a free sphere with rolling resistance. Contact properties come from one surface table.
+carpet by an ODE plane joint; the ball is a free sphere with rolling resistance.
+Contact properties come from one surface table.
 """
 
 from __future__ import annotations
@@ -268,7 +269,7 @@ class PhysicsWorld:
         return self._touched
 
     def _near(self, _args: object, geom_a: ode.GeomObject, geom_b: ode.GeomObject) -> None:
-        kind_a, kind_b = self._kind.get(geom_a), self._kind.get(geom_b)
+        kind_a, kind_b = self._kind.get(geom_a, ""), self._kind.get(geom_b, "")
         surface = self._surfaces.get((kind_a, kind_b))
         if surface is None:
             return
