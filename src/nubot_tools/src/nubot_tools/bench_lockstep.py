@@ -333,7 +333,7 @@ def bench_pyode(steps: int, cpu: int | None, ring: float) -> dict:
         geom = ode.GeomCylinder(space, radius, height)
         geom.setBody(body)
         body.setPosition((x, y, height / 2 + 0.01))
-        plane = ode.Plane2DJoint(world)  # as PhysicsWorld holds its robots: no lift, no tilting motion
+        plane = ode.Plane2DJoint(world)  # in C what PhysicsWorld.drive_robot does in Python: no tilt, no lift
         plane.attach(body, ode.environment)
         robots.append(body)
         geoms.append((geom, plane))

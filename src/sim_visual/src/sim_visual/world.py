@@ -1,12 +1,13 @@
 """The physics layer: an ODE world with the field, two goals, the ball and robot cylinders.
 
-Requires: ``python3-pyode``. Provides: ``PhysicsWorld`` (add/remove robots, set
-robot velocities, read and set model states, ``step``) and the plain state
-records ``RobotState`` and ``BallState`` (world frame, SI units). Robots are
-driven kinematically in the plane (their body velocity is set every step, as
-Gazebo's SetLinearVel/SetAngularVel) but collide dynamically, held upright on the
-carpet by an ODE plane joint; the ball is a free sphere with rolling resistance.
-Contact properties come from one surface table.
+Requires: ``python3-pyode``. Provides: ``PhysicsWorld`` (add/remove robots, drive
+them, read and set model states, ``step``) and the plain state records
+``RobotState`` and ``BallState`` (world frame, SI units). Robots are driven
+kinematically in the plane (their body velocity is set before every step, as
+Gazebo's SetLinearVel/SetAngularVel) but collide dynamically; driving a robot also
+sets it back upright on the carpet where the last step's contacts tipped or lifted
+it. The ball is a free sphere with rolling resistance. Contact properties come
+from one surface table.
 """
 
 from __future__ import annotations
@@ -68,7 +69,8 @@ class BallState:
 
 
 class PhysicsWorld:
-    """ODE world of one MSL field. Not thread-safe: one caller steps and edits it."""
+    """ODE world of one MSL field. Not thread-safe: one caller steps and edits it. Drive every robot
+    (``drive_robot``) before each ``step``."""
 
     def __init__(self, field: FieldGeometry, physics: PhysicsParams, robot: RobotBody, ball: BallBody):
         self.field = field
@@ -83,7 +85,6 @@ class PhysicsWorld:
         self._contacts = ode.JointGroup()
         self._kind: dict[ode.GeomObject, str] = {}
         self._robots: dict[str, tuple[ode.Body, ode.GeomObject]] = {}
-        self._planes: dict[str, ode.Plane2DJoint] = {}  # pyode destroys a joint nobody refers to
         self._robot_of_geom: dict[ode.GeomObject, str] = {}
         self._touched: set[str] = set()
         self._ball_holder: str | None = None
@@ -156,7 +157,7 @@ class PhysicsWorld:
         rb = self.robot_body
         body = ode.Body(self._world)
         mass = ode.Mass()
-        # Roll and pitch are held by the plane joint; only I_zz matters (Table 1).
+        # Roll and pitch are set back every step (drive_robot); only I_zz matters (Table 1).
         mass.setParameters(rb.mass, 0.0, 0.0, 0.0, rb.inertia_zz, rb.inertia_zz, rb.inertia_zz, 0.0, 0.0, 0.0)
         body.setMass(mass)
         body.setGravityMode(False)
@@ -168,18 +169,12 @@ class PhysicsWorld:
         self._classify(holder, "robot")
         self._robot_of_geom[holder] = name
         self._robots[name] = (body, holder)
-        # On the carpet inside ODE's solver: no lift (z = 0), no tilting motion; contacts push it in the plane
-        # (what tilt a contact leaves, drive_robot rights).
-        plane = ode.Plane2DJoint(self._world)
-        plane.attach(body, ode.environment)
-        self._planes[name] = plane
         self.set_robot_state(name, RobotState(x, y, theta, 0.0, 0.0, 0.0))
 
     def remove_robot(self, name: str) -> None:
         body, holder = self._robot(name)
         self._space.remove(holder)
         del self._kind[holder], self._robot_of_geom[holder], self._robots[name]
-        self._planes.pop(name).attach(None, None)
         self._robot_states.pop(name, None)
         body.disable()
 
@@ -207,24 +202,20 @@ class PhysicsWorld:
         body.setLinearVel((state.vx, state.vy, 0.0))
         body.setAngularVel((0.0, 0.0, state.w))
 
-    def set_robot_velocity(self, name: str, vx: float, vy: float, w: float) -> None:
-        """Drive a robot with a world-frame velocity [m/s] and yaw rate [rad/s]."""
-        body, _ = self._robot(name)
-        self._robot_states.pop(name, None)
-        body.setLinearVel((vx, vy, 0.0))
-        body.setAngularVel((0.0, 0.0, w))
-
     def drive_robot(self, name: str, vx: float, vy: float, w: float) -> None:
-        """Drive a robot with a velocity in its own frame [m/s] (x ahead) and yaw rate [rad/s], as its wheels
-        do: turned into the world frame by its heading now (what a physics step needs of it, nothing more)."""
+        """Drive a robot for the next step with a velocity in its own frame [m/s] (x ahead) and yaw rate [rad/s],
+        as its wheels do (turned into the world frame by its heading now), upright on the carpet."""
         body, _ = self._robot(name)
         self._robot_states.pop(name, None)
         # Every robot, every step: _yaw and rotate written out (ODE's quaternion order w, x, y, z).
         qw, qx, qy, qz = body.getQuaternion()
         yaw = math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
         c, s = math.cos(yaw), math.sin(yaw)
-        if qx != 0.0 or qy != 0.0:  # ODE's plane joint leaves the tilt a contact gave to drift: set it upright
+        if qx != 0.0 or qy != 0.0:  # a contact tipped it: set it upright
             body.setQuaternion((math.cos(yaw / 2.0), 0.0, 0.0, math.sin(yaw / 2.0)))
+        x, y, z = body.getPosition()
+        if z != 0.0:  # a contact lifted it: back on the carpet
+            body.setPosition((x, y, 0.0))
         body.setLinearVel((c * vx - s * vy, s * vx + c * vy, 0.0))
         body.setAngularVel((0.0, 0.0, w))
 

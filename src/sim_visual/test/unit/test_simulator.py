@@ -412,7 +412,7 @@ def test_a_robot_state_read_again_shows_every_change(make_sim, run):
     sim = make_sim([("nubot1", 0.0, 0.0, 0.0), ("nubot2", 2.0, 0.0, 0.0)])
     before = sim.world.robot_state("nubot1")
     assert sim.world.robot_state("nubot1") == before
-    sim.world.set_robot_velocity("nubot1", 1.0, 0.5, 0.2)
+    sim.world.drive_robot("nubot1", 1.0, 0.5, 0.2)  # heading 0: its own frame is the world's
     assert (sim.world.robot_state("nubot1").vx, sim.world.robot_state("nubot1").vy) == (1.0, 0.5)
     sim.set_model_state("nubot1", RobotState(-1.0, 1.0, 0.3, 0.0, 0.0, 0.0))
     assert astuple(sim.world.robot_state("nubot1")) == pytest.approx((-1.0, 1.0, 0.3, 0.0, 0.0, 0.0))
