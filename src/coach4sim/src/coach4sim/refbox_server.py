@@ -188,16 +188,19 @@ class RefboxServer:
             except OSError:
                 return  # closed
             sock.settimeout(0.2)
+            failure = ""
             with self.lock:
                 conn = Connection(len(self.connections) + 1, f"{address}:{port}", sock, FrameDecoder(self.max_message))
+                if self.welcome:  # before the connection is listed: no command to every station can come first
+                    try:
+                        sock.sendall(encode_message(RefboxCommand("WELCOME").to_message()))
+                    except OSError as exc:
+                        failure = f"send failed: {exc}"
                 self.connections.append(conn)
             self.log(f"base station #{conn.number} connected from {conn.peer}")
-            if self.welcome:
-                try:
-                    sock.sendall(encode_message(RefboxCommand("WELCOME").to_message()))
-                except OSError as exc:
-                    self._closed(conn, f"send failed: {exc}")
-                    continue
+            if failure:
+                self._closed(conn, failure)
+                continue
             self._spawn(self._read_loop, f"refbox-read-{conn.number}", conn)
 
     def _read_loop(self, conn: Connection) -> None:
