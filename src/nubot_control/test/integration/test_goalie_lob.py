@@ -177,11 +177,11 @@ def test_a_goalie_seeing_through_its_cameras_meets_a_lob_where_it_comes_down(ros
         track = [(round(s[0] - struck_at, 2), round(s[2][0], 2), round(s[2][1], 2)) for s in watch.states
                  if struck_at - 0.1 < s[0] < struck_at + free.t][::10]
         paths = [p for t, p in watch.paths if struck_at < t <= struck_at + crossing]
+    outcome = f"scored after {watch.goals[0].header.stamp.to_sec() - struck_at:.2f} s" if watch.goals else "kept out"
     story = f"the lob crosses the lob line at ({meet[0]:.2f}, {meet[1]:.2f}) after {crossing:.2f} s; first announced " \
             f"at {flights[0].header.stamp.to_sec() - struck_at:.2f} s, touchdowns " \
             f"{[(round(f.touchdown.x, 2), round(f.touchdown.y, 2)) for f in flights[::5]]}; the paths end at " \
-            f"{[(round(p[0], 2), round(p[1], 2)) for p in paths]}; the goalie (t, x, y): {track}; " \
-            f"{'scored after %.2f s' % (watch.goals[0].header.stamp.to_sec() - struck_at) if watch.goals else 'kept out'}"
+            f"{[(round(p[0], 2), round(p[1], 2)) for p in paths]}; the goalie (t, x, y): {track}; {outcome}"
     assert paths and math.hypot(paths[-1][0] - meet[0], paths[-1][1] - meet[1]) < 0.25, \
         f"the goalie's last path before the lob crossed the lob line ends where it crosses: {story}"
     start, end = (math.hypot(p[0] - meet[0], p[1] - meet[1]) for p in (before, at_crossing))
