@@ -70,23 +70,29 @@ class PerfMonitor:
              "viewer", "match_markers", "rosmaster", "rosout")
 
     def __init__(self, robots: list[str], launched: list, rate: float = 33.0) -> None:
-        import rospy
-
-        from nubot_common.msg import StrategyInfo
-
         self.rate = rate
         self.launched = launched
-        self.counts = dict.fromkeys(robots, 0)
+        self.robots = robots
         self.samples: list[dict[str, float]] = []
-        self.start: tuple[float, float] | None = None
+        self.start: tuple[float, float] | None = None  # (wall, sim) when measuring began
+        self.end: tuple[float, float] | None = None
         self.subscribers: dict[str, int] = {}  # topic -> subscribing nodes, once every node is up
         self._known: dict[int, object] = {}  # psutil measures CPU between two calls on the same Process object
-        self.subs = [rospy.Subscriber(f"/{r}/nubotcontrol/strategy", StrategyInfo,
-                                      lambda _m, r=r: self._count(r), queue_size=50) for r in robots]
 
-    def _count(self, robot: str) -> None:
-        if self.start is not None:
-            self.counts[robot] += 1
+    def cycles(self, bag: Path) -> dict[str, int]:
+        """Each robot's control cycles while measuring: its StrategyInfo messages (one a cycle) in the match's bag,
+        by their sim time; counted from the bag, not by subscribing, so that measuring adds no messages to a match
+        whose cost is mostly rospy's per message."""
+        import rosbag
+
+        assert self.start is not None and self.end is not None
+        topics = {f"/{r}/nubotcontrol/strategy": r for r in self.robots}
+        counts = dict.fromkeys(self.robots, 0)
+        with rosbag.Bag(str(bag)) as recorded:
+            for topic, _msg, stamp in recorded.read_messages(topics=list(topics), raw=True):
+                if self.start[1] <= stamp.to_sec() <= self.end[1]:
+                    counts[topics[topic]] += 1
+        return counts
 
     def _processes(self):
         import psutil
@@ -106,7 +112,6 @@ class PerfMonitor:
                 proc.cpu_percent(None)
             except Exception:  # noqa: BLE001 - a process may end between listing and asking
                 pass
-        self.counts = dict.fromkeys(self.counts, 0)
         self.start = (time.monotonic(), clock)
         self.subscribers = subscriber_counts()
 
@@ -125,11 +130,15 @@ class PerfMonitor:
         kinds["rss_mib"] = memory / 2**20
         self.samples.append(kinds)
 
-    def result(self, clock: float) -> dict:
-        assert self.start is not None
-        wall, sim = time.monotonic() - self.start[0], clock - self.start[1]
+    def stop(self, clock: float) -> None:
+        self.end = (time.monotonic(), clock)
+
+    def result(self, bag: Path) -> dict:
+        assert self.start is not None and self.end is not None
+        wall, sim = self.end[0] - self.start[0], self.end[1] - self.start[1]
         expected = self.rate * sim
-        rates = {r: n / sim for r, n in self.counts.items()} if sim > 0 else {}
+        counts = self.cycles(bag)
+        rates = {r: n / sim for r, n in counts.items()} if sim > 0 else {}
         samples = self.samples[1:] or self.samples
         kinds = sorted({k for s in samples for k in s} - {"rss_mib"})
         cpu = {k: round(sum(s.get(k, 0.0) for s in samples) / len(samples), 3) for k in kinds}
@@ -138,8 +147,8 @@ class PerfMonitor:
             "achieved_real_time_factor": round(sim / wall, 3) if wall > 0 else None,
             "control_rate_hz": {r: round(v, 2) for r, v in rates.items()},
             "control_rate_min_hz": round(min(rates.values()), 2) if rates else None,
-            "missed_cycles": {r: max(0, round(expected - n)) for r, n in self.counts.items()},
-            "missed_cycle_share": round(1 - sum(self.counts.values()) / (expected * len(self.counts)), 4)
+            "missed_cycles": {r: max(0, round(expected - n)) for r, n in counts.items()},
+            "missed_cycle_share": round(1 - sum(counts.values()) / (expected * len(counts)), 4)
             if expected > 0 else None,
             "cpu_cores_by_kind": cpu, "cpu_cores_total": round(sum(cpu.values()), 2),
             # What a simulated second costs, however fast the saturated machine let the match run.
@@ -355,6 +364,7 @@ def play(argv: list[str] | None) -> int:
     print(f"match {configs[0].name} vs {configs[1].name} on the {world.name} field: {args.halves} x "
           f"{args.half_seconds:.0f} s, real_time_factor {args.real_time_factor}, seed {args.seed}"
           f"{f', seeing through their cameras: {vision}' if str(vision) else ''}; folder {out}", flush=True)
+    perf: PerfMonitor | None = None
     with RosMaster(out / "logs") as master:
         os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
         import rospy
@@ -432,16 +442,18 @@ def play(argv: list[str] | None) -> int:
             if resources is not None:
                 resources.save(args.resources_json)
             if perf is not None and perf_started:
-                figures = perf.result(watcher.clock)
-                args.perf_json.parent.mkdir(parents=True, exist_ok=True)
-                args.perf_json.write_text(json.dumps(figures, indent=2))
-                print(f"  performance: real-time factor {figures['achieved_real_time_factor']}, slowest control "
-                      f"loop {figures['control_rate_min_hz']} Hz, missed cycles "
-                      f"{100 * figures['missed_cycle_share']:.1f} %, CPU {figures['cpu_cores_total']} of "
-                      f"{figures['cpus']} cores, memory {figures['rss_mib_total']} MiB", flush=True)
+                perf.stop(watcher.clock)
         recorder.stop(timeout=20)
         rospy.signal_shutdown("match over")
     run.finish(bag)
+    if perf is not None and perf.end is not None and bag.exists():
+        figures = perf.result(bag)
+        args.perf_json.parent.mkdir(parents=True, exist_ok=True)
+        args.perf_json.write_text(json.dumps(figures, indent=2))
+        print(f"  performance: real-time factor {figures['achieved_real_time_factor']}, slowest control "
+              f"loop {figures['control_rate_min_hz']} Hz, missed cycles "
+              f"{100 * figures['missed_cycle_share']:.1f} %, CPU {figures['cpu_cores_total']} of "
+              f"{figures['cpus']} cores, memory {figures['rss_mib_total']} MiB", flush=True)
     status = 0 if run.ended is None else CUT_SHORT_STATUS
     if args.no_report or not bag.exists():
         return status
