@@ -178,6 +178,24 @@ def test_a_node_built_against_the_original_messages_hears_ours(match, topic, nam
     assert cls._md5sum == received[0]._md5sum
 
 
+def test_only_the_nodes_that_keep_sim_time_take_the_clock(match):
+    """Every /clock message costs each rospy node that takes it about 0.2 ms of CPU: the spawners, idle once their
+    robots are spawned, are not nodes, so the clock goes only to the robots' software, the relays, the simulator,
+    its markers and this test."""
+    import rosgraph
+    import rospy
+
+    robots = {f"/{p}{k}/{n}" for p in ("nubot", "rival") for k in (1, 2, 3) for n in ("world_model", "nubot_control")}
+    others = {"/nubot/sim_interface", "/rival/sim_interface", "/sim_visual", "/match_markers", rospy.get_name()}
+
+    def clock() -> set[str]:
+        _pubs, subscribers, _services = rosgraph.Master("/test_team_play").getSystemState()
+        return set(next((nodes for topic, nodes in subscribers if topic == "/clock"), []))
+
+    wait_until(lambda: robots <= clock(), 60, f"every robot's nodes on /clock: {sorted(robots - clock())} missing")
+    assert clock() <= robots | others, f"/clock goes also to {sorted(clock() - robots - others)}"
+
+
 def test_killing_a_control_node_hands_its_role_to_a_teammate(match):
     """Last in this module: it kills nubot2's or nubot3's control node, which the tests above listen to."""
     master, watch = match
@@ -197,21 +215,3 @@ def test_killing_a_control_node_hands_its_role_to_a_teammate(match):
         assert watch.roles[other][1] == 1, "the role stays"
     finally:
         stop(*pubs)
-
-
-def test_only_the_nodes_that_keep_sim_time_take_the_clock(match):
-    """Every /clock message costs each rospy node that takes it about 0.2 ms of CPU: the spawners, idle once their
-    robots are spawned, are not nodes, so the clock goes only to the robots' software, the relays, the simulator,
-    its markers and this test."""
-    import rosgraph
-    import rospy
-
-    robots = {f"/{p}{k}/{n}" for p in ("nubot", "rival") for k in (1, 2, 3) for n in ("world_model", "nubot_control")}
-    others = {"/nubot/sim_interface", "/rival/sim_interface", "/sim_visual", "/match_markers", rospy.get_name()}
-
-    def clock() -> set[str]:
-        _pubs, subscribers, _services = rosgraph.Master("/test_team_play").getSystemState()
-        return set(next((nodes for topic, nodes in subscribers if topic == "/clock"), []))
-
-    wait_until(lambda: robots <= clock(), 60, f"every robot's nodes on /clock: {sorted(robots - clock())} missing")
-    assert clock() <= robots | others, f"/clock goes also to {sorted(clock() - robots - others)}"
