@@ -7,9 +7,9 @@ Scenarios (``--scenario``):
   integrates /nubotdriver/odoinfo as a user of the odometry would (body velocities at their stamps) over those
   ``--seconds`` and compares the pose change with the simulator's truth (/sim_visual/model_states): the drift per
   10 m travelled. The span starts and ends turning the same way, at speed: over ROS the simulated drive's encoders
-  run ahead of the simulator's robot by the WheelSpeeds' delivery (a real drive's are on its motors), and from a
-  standstill to the other turn that lead alone made a heading error of up to 0.06 rad on a loaded machine. It also
-  keeps nubot_hwcontrol's loop period (nubotdriver/status) and every node's CPU.
+  run ahead of the simulator's robot by the WheelSpeeds' delivery (a real drive's are on its motors), a lead that
+  cancels between such ends; from a standstill to the other turn the heading error reached 0.06 rad on a loaded
+  machine, against 0.03 now. It also keeps nubot_hwcontrol's loop period (nubotdriver/status) and every node's CPU.
 - ``loop``: nubot_hwcontrol alone on wall time (as on the robot; its simulated drive has no simulator to move,
   so its wheels read as blocked): the control loop's period without the simulator's /clock ticks.
 - ``score``: the whole robot; the coach's STARTROBOT reaches it through a coach's team link (LCM) and the
