@@ -10,7 +10,6 @@ the cameras' early touchdowns stray up to 0.7 m from where it comes down), so it
 from __future__ import annotations
 
 import math
-import subprocess
 import threading
 import time
 
@@ -123,9 +122,8 @@ def test_a_goalie_seeing_through_its_cameras_meets_a_lob_where_it_comes_down(ros
         _set_ball(launch.x, launch.y, radius)
         robot = ros_master.launch("goalie", ["roslaunch", "nubot_control", "robot.launch", f"robot:={GOALIE}",
                                              "goalie_id:=2", "perception:=vision"])
-        coach = subprocess.Popen(["rostopic", "pub", "-r", "10", "/nubot/receive_from_coach", "nubot_common/CoachInfo",
-                                  "\nMatchMode: 15\nMatchType: 0 "], env=ros_master.env,
-                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        coach = ros_master.launch("coach", ["rostopic", "pub", "-r", "10", "/nubot/receive_from_coach",
+                                            "nubot_common/CoachInfo", "\nMatchMode: 15\nMatchType: 0 "])
 
         def settled() -> bool:
             """The goalie sees the still ball: it has taken its place on the line from its goal's centre to the
@@ -146,11 +144,8 @@ def test_a_goalie_seeing_through_its_cameras_meets_a_lob_where_it_comes_down(ros
         logs = "\n".join(p.log_text()[-2500:] for p in (sim, robot) if p is not None)
         raise AssertionError(f"{exc}\n{logs}") from None
     finally:
-        if coach is not None:
-            coach.terminate()
-            coach.wait(10)
         watch.close()
-        for p in (robot, sim):
+        for p in (coach, robot, sim):
             if p is not None:
                 p.stop()
         time.sleep(0.5)

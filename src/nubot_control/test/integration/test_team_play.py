@@ -1,5 +1,6 @@
 """Team play over real ROS: two teams of three spawned by the spawner, driven by world_model + nubot_control."""
 
+import itertools
 import math
 import subprocess
 import sys
@@ -66,17 +67,22 @@ def match(ros_master, tmp_path_factory):
     time.sleep(0.5)
 
 
+_PUBLISHERS = itertools.count()
+
+
 def coach(master, team, mode):
     """The chapter's command line, as written (multi-line YAML), repeated at 10 Hz in the background."""
-    return subprocess.Popen(["rostopic", "pub", "-r", "10", f"/{team}/receive_from_coach", "nubot_common/CoachInfo",
-                             f"\nMatchMode: {mode}\nMatchType: 0 "], env=master.env,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return master.launch(f"coach_{team}_{mode}_{next(_PUBLISHERS)}",
+                         ["rostopic", "pub", "-r", "10", f"/{team}/receive_from_coach", "nubot_common/CoachInfo",
+                          f"\nMatchMode: {mode}\nMatchType: 0 "])
 
 
 def stop(*processes):
+    """SIGINT, then SIGKILL: a loaded machine once left `rostopic pub` ignoring SIGTERM for 10 s after a kill."""
     for p in processes:
-        p.terminate()
-        p.wait(timeout=10)
+        p.interrupt()
+    for p in processes:
+        p.stop()
 
 
 def test_our_kickoff_by_rostopic_pub_gives_the_kickoff_formation(match):
