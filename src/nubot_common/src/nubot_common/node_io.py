@@ -19,17 +19,26 @@ parameter, a registration, dynamic_reconfigure's set-up), it waits for that call
 forever. A node stopped while it started (a test, Ctrl-C at once) hung until roslaunch killed it 15 s later. Held,
 the signal is handled the moment the set-up is done, by rospy's handler as usual. So a set-up must not wait for
 others (a service, a first message): that waits after the block, where Ctrl-C can end it.
+
+``timer`` runs a node's periodic cycle. Under sim time a ``rospy.Timer`` sleeps in ``rospy.sleep``, which wakes at
+every /clock message (rospy notifies every thread waiting for time to move): a 33 Hz cycle's thread woke 100 times
+a second in a match, for 20 such nodes. ``timer`` instead takes /clock from the node's own /clock subscription
+(rospy delivers each message once per process, to both) and wakes its thread only when a cycle is due. On wall
+time (a real robot) it is a ``rospy.Timer``.
 """
 
 from __future__ import annotations
 
 import signal
+import threading
+import time
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Any
 
 import rospy
+from rosgraph_msgs.msg import Clock
 
 _STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -59,3 +68,66 @@ def publisher(topic: str, msg_type: type, latch: bool = False, queue_size: int |
     with warnings.catch_warnings():  # rospy warns about queue_size=None whether or not it is deliberate
         warnings.simplefilter("ignore", SyntaxWarning)
         return rospy.Publisher(topic, msg_type, queue_size=queue_size, latch=latch)
+
+
+class _ClockTimer:
+    """A periodic callback on sim time, in a thread of its own, woken by /clock only when a cycle is due.
+
+    As ``rospy.Timer``: one cycle each period, none while the clock stands still; a cycle that ends late is followed
+    at once by the ones it held up, unless it ended more than three periods after the last one was due, when the
+    count starts again from then. Unlike it, the first cycle comes one period after the first /clock (not at once),
+    and a clock that goes back (a simulator reset, a bag played again) starts the count again instead of ending the
+    timer.
+    """
+
+    def __init__(self, period: float, callback: Callable[[rospy.timer.TimerEvent], None]):
+        if not period > 0.0:
+            raise ValueError(f"a timer's period must be positive, not {period} s")
+        self.period, self.callback = period, callback
+        self._period_ns = max(1, round(period * 1e9))  # in integer nanoseconds, as rospy.Time: no drift
+        self._now: int | None = None  # the last /clock [ns]
+        self._due: int | None = None  # when the next cycle is due [ns]; moved on by the thread after each cycle
+        self._wake = threading.Event()
+        self._stopped = False
+        self._sub = rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1)  # rospy's own connection
+        self._thread = threading.Thread(target=self._run, name="clock_timer", daemon=True)
+        self._thread.start()
+
+    def _on_clock(self, msg: Clock) -> None:
+        t, due, period = msg.clock.to_nsec(), self._due, self._period_ns
+        self._now = t
+        if due is None or t < due - period:  # the first tick, or the clock went back
+            self._due = t + period
+        elif t >= due:
+            self._wake.set()
+
+    def _run(self) -> None:
+        last_expected, last_real, last_duration = None, None, None
+        period = self._period_ns
+        while not self._stopped and not rospy.is_shutdown():
+            if not self._wake.wait(0.5):
+                continue
+            self._wake.clear()
+            while not self._stopped and not rospy.is_shutdown():
+                due, now = self._due, self._now
+                if due is None or now is None or now < due:
+                    break
+                expected, real, start = rospy.Time(nsecs=due), rospy.Time.now(), time.monotonic()
+                self.callback(rospy.timer.TimerEvent(last_expected, last_real, expected, real, last_duration))
+                last_expected, last_real, last_duration = expected, real, time.monotonic() - start
+                ended = self._now
+                if self._due == due:  # (else the clock went back meanwhile and _on_clock set a new count)
+                    self._due = ended if ended is not None and ended - (due + period) > 2 * period else due + period
+
+    def shutdown(self) -> None:
+        self._stopped = True
+        self._sub.unregister()
+        self._wake.set()
+
+
+def timer(period: float, callback: Callable[[rospy.timer.TimerEvent], None]) -> _ClockTimer | rospy.Timer:
+    """Call ``callback`` every ``period`` seconds of ROS time, in a thread of its own (see the module's notes);
+    ``.shutdown()`` stops it."""
+    if rospy.rostime.is_wallclock():
+        return rospy.Timer(rospy.Duration(period), callback)
+    return _ClockTimer(period, callback)
