@@ -64,6 +64,7 @@ bench: setup
 	@$(ROS) python scripts/bench_kinect_ball.py --out bench/results
 	@$(ROS) python scripts/bench_goalie.py --out bench/results --label after
 	@$(ROS) python scripts/bench_team_link.py --out bench/results
+	@$(ROS) python scripts/bench_node_timer.py --out bench/results
 	@$(ROS) python scripts/bench_hwcontrol.py --out bench/results
 	@$(ROS) python scripts/bench_viewer.py --out bench/results
 
