@@ -1,10 +1,12 @@
-"""node_io over a real roscore: a node told to stop while it sets itself up stops, at once once set up."""
+"""node_io over a real roscore: a node told to stop while it sets itself up stops, at once once set up; a timer
+keeps the period of sim time on the node's one /clock connection, and of wall time without sim time."""
 
 from __future__ import annotations
 
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 import pytest
@@ -62,8 +64,6 @@ class _Lines:
     """A child's output lines, read in a thread, so that the test can look at them while it runs."""
 
     def __init__(self, process: subprocess.Popen):
-        import threading
-
         self.lines: list[str] = []
         self._thread = threading.Thread(target=lambda: self.lines.extend(iter(process.stdout.readline, "")),
                                         daemon=True)
@@ -100,7 +100,8 @@ def test_a_timer_on_sim_time_runs_every_period_of_the_clock_and_shares_the_nodes
         assert all(real >= expected for real, expected in first), "no cycle before it is due"
         expected = [e for _, e in first]
         assert all(b - a >= 30_000_000 for a, b in zip(expected, expected[1:])), expected
-        assert expected[0] == 1_030_000_000, "the first cycle one period after the first tick"
+        # one period after the first tick it took (1.00 s, or a later one when rospy dropped it for a newer)
+        assert 1_030_000_000 <= expected[0] <= 1_060_000_000, "the first cycle one period after the first tick"
 
         time.sleep(0.5)
         assert len(_cycles(out.lines)) == len(first), "no cycle while the clock stands still"
@@ -109,7 +110,7 @@ def test_a_timer_on_sim_time_runs_every_period_of_the_clock_and_shares_the_nodes
         time.sleep(0.3)
         again = _cycles(out.lines)[len(first):]
         assert 8 <= len(again) <= 10, again
-        assert again[0][1] == 230_000_000
+        assert 230_000_000 <= again[0][1] <= 260_000_000, again
     finally:
         node.terminate()
         node.wait(timeout=20)
