@@ -1,4 +1,4 @@
 #!/usr/bin/env python3
-from nubot_tools.bench_node_timer import main
+from nubot_tools.ros.bench_node_timer import main
 
 raise SystemExit(main())

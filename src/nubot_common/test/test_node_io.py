@@ -115,10 +115,7 @@ def test_a_timer_on_sim_time_runs_every_period_of_the_clock_and_shares_the_nodes
         node.terminate()
         node.wait(timeout=20)
         clock.unregister()
-        if previous is None:
-            rospy.delete_param("/use_sim_time")
-        else:
-            rospy.set_param("/use_sim_time", previous)
+        _restore("/use_sim_time", previous)
 
 
 def test_a_timer_on_wall_time_runs_without_a_clock(ros_master):
@@ -126,7 +123,8 @@ def test_a_timer_on_wall_time_runs_without_a_clock(ros_master):
 
     from nubot_tools.processes import wait_until
 
-    assert not rospy.get_param("/use_sim_time", False)
+    previous = rospy.get_param("/use_sim_time", None)  # a launch file before this test may have set it
+    rospy.set_param("/use_sim_time", False)
     node = subprocess.Popen([sys.executable, "-c", TIMER], env=ros_master.env, stdout=subprocess.PIPE, text=True)
     try:
         out = _Lines(node)
@@ -136,3 +134,13 @@ def test_a_timer_on_wall_time_runs_without_a_clock(ros_master):
     finally:
         node.terminate()
         node.wait(timeout=20)
+        _restore("/use_sim_time", previous)
+
+
+def _restore(name: str, value: object) -> None:
+    import rospy
+
+    if value is None:
+        rospy.delete_param(name)
+    else:
+        rospy.set_param(name, value)
