@@ -120,10 +120,13 @@ def replay_and_slide(bag: Path, kickoff: float) -> None:
 def test_short_two_vs_two_match_on_the_22_by_14_field_is_watched_recorded_reported_and_replayed(tmp_path, two_vs_two):
     """``--field 22x14`` reaches every node: the simulator, the robots (the goalie's kickoff spot is on the
     22 x 14 goal line), the referee, the live page, and the report, which reads the field from the bag."""
+    scratch = tmp_path / "tmp"  # the match's temporary files, which it must remove
+    scratch.mkdir()
     process = subprocess.Popen([sys.executable, str(ROOT / "scripts" / "run_match.py"), "--half-seconds", "20",
                                 "--halves", "1", "--field", "22x14", "--out", str(tmp_path / "matches"),
                                 "--viewer-port", "0", *two_vs_two],
-                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True,
+                               env=dict(os.environ, TMPDIR=str(scratch)))
     output = Output(process)
     try:
         url = output.find(r"watch it at (http://127\.0\.0\.1:\d+/)", 120, process)[1]
@@ -137,6 +140,7 @@ def test_short_two_vs_two_match_on_the_22_by_14_field_is_watched_recorded_report
     assert "kickoff for nubot" in stdout, "the referee starts the match"
     assert "on the 22 x 14 m field" in stdout
     assert "end of the match" in stdout
+    assert not list(scratch.iterdir()), "the match leaves no temporary files behind"
     folder = next((tmp_path / "matches").iterdir())
     assert (folder / "match.bag").stat().st_size > 100_000
     report = json.loads((folder / "report.json").read_text())

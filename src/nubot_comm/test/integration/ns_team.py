@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
 import struct
 import sys
 import tempfile
@@ -350,6 +351,7 @@ def main() -> int:
             rospy.signal_shutdown("done")
             master.stop()
             result["log"] = nodes.log_text()[-20000:]
+    shutil.rmtree(logs, ignore_errors=True)  # what the test needs of it is in the result
     args.out.write_text(json.dumps(result))
     return 0 if "error" not in result else 1
 

@@ -23,6 +23,7 @@ import argparse
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -55,6 +56,8 @@ def main() -> int:
         result["error"] = f"{type(exc).__name__}: {exc}"
         log = logs / "robot.log"
         result["log"] = log.read_text()[-6000:] if log.exists() else ""
+    finally:
+        shutil.rmtree(logs, ignore_errors=True)  # what is wanted of it is in the result
     args.out.write_text(json.dumps(result, indent=1) + "\n")
     return 0
 

@@ -91,26 +91,27 @@ def main(argv: list[str] | None = None) -> int:
         print(f"spawn_team: {exc}", file=sys.stderr)
         return 2
     spawn_models(team)
-    launch_file = Path(tempfile.mkdtemp(prefix=f"team_{team.prefix}_")) / "team.launch"
-    launch_file.write_text(team_launch_xml(team, args.tracker, vision))
-    child = subprocess.Popen(["roslaunch", "--skip-log-check", str(launch_file)], start_new_session=True)
-    print(f"[spawn] team {team.name}: {len(team.robots)} robots' nodes started (pid {child.pid})", flush=True)
-    stopping = False
+    with tempfile.TemporaryDirectory(prefix=f"team_{team.prefix}_") as folder:  # gone with the team
+        launch_file = Path(folder) / "team.launch"
+        launch_file.write_text(team_launch_xml(team, args.tracker, vision))
+        child = subprocess.Popen(["roslaunch", "--skip-log-check", str(launch_file)], start_new_session=True)
+        print(f"[spawn] team {team.name}: {len(team.robots)} robots' nodes started (pid {child.pid})", flush=True)
+        stopping = False
 
-    def stop(*_args: object) -> None:
-        nonlocal stopping
-        stopping = True
+        def stop(*_args: object) -> None:
+            nonlocal stopping
+            stopping = True
 
-    signal.signal(signal.SIGINT, stop)
-    signal.signal(signal.SIGTERM, stop)
-    while not stopping and child.poll() is None:
-        time.sleep(0.2)
-    if child.poll() is None:
-        child.send_signal(signal.SIGINT)
-        try:
-            child.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            child.kill()
+        signal.signal(signal.SIGINT, stop)
+        signal.signal(signal.SIGTERM, stop)
+        while not stopping and child.poll() is None:
+            time.sleep(0.2)
+        if child.poll() is None:
+            child.send_signal(signal.SIGINT)
+            try:
+                child.wait(timeout=15)
+            except subprocess.TimeoutExpired:
+                child.kill()
     if not args.keep_models:
         delete_models(team)
     return 0
