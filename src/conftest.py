@@ -1,6 +1,5 @@
 """Fixtures shared by every package's tests: one private roscore per test session."""
 
-import os
 
 import pytest
 
@@ -11,7 +10,7 @@ from nubot_tools.processes import RosMaster
 def ros_master(tmp_path_factory):
     """A roscore on a free port, and this process registered with it as a (wall-time) node."""
     with RosMaster(tmp_path_factory.mktemp("ros")) as master:
-        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        master.use_in_this_process()
         import rospy  # after ROS_MASTER_URI points at the private master
 
         rospy.init_node("integration_tests", anonymous=True, disable_signals=True)

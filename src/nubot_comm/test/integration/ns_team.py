@@ -310,7 +310,7 @@ def main() -> int:
     result: dict = {"links": links, "expect": expect}
     logs = Path(tempfile.mkdtemp(prefix="ns_team_"))
     with RosMaster(logs) as master:
-        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        master.use_in_this_process()
         import rospy
 
         rospy.init_node("ns_team_driver", anonymous=True, disable_signals=True)

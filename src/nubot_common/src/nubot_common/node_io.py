@@ -83,7 +83,7 @@ class _ClockTimer:
     def __init__(self, period: float, callback: Callable[[rospy.timer.TimerEvent], None]):
         if not period > 0.0:
             raise ValueError(f"a timer's period must be positive, not {period} s")
-        self.period, self.callback = period, callback
+        self.callback = callback
         self._period_ns = max(1, round(period * 1e9))  # in integer nanoseconds, as rospy.Time: no drift
         self._now: int | None = None  # the last /clock [ns]
         self._due: int | None = None  # when the next cycle is due [ns]; moved on by the thread after each cycle

@@ -185,6 +185,10 @@ class RosMaster:
     def __exit__(self, *_exc: object) -> None:
         self.stop()
 
+    def use_in_this_process(self) -> None:
+        """Point this process at the master (ROS_MASTER_URI, ROS_IP, ROS_LOG_DIR): for rospy, imported after this."""
+        os.environ.update({k: self.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+
     def wait_until_up(self, timeout: float = 30.0) -> None:
         deadline = time.monotonic() + timeout
         proxy = xmlrpc.client.ServerProxy(self.uri)

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import statistics
 import sys
 import tempfile
@@ -72,7 +71,7 @@ def run(nodes: int, seconds: float, repeats: int, clock_rate: float) -> dict:
     from nubot_common.node_io import publisher
 
     with tempfile.TemporaryDirectory() as logs, RosMaster(Path(logs)) as master:
-        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        master.use_in_this_process()
         rospy.init_node("bench_node_timer", disable_signals=True)
         rospy.set_param("/use_sim_time", True)  # for the nodes started from now on (this one keeps wall time)
         clock, stop = publisher("/clock", Clock), threading.Event()

@@ -152,7 +152,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"[bench] core simulator, {count} robot(s) ...", flush=True)
         results["core"].append(bench_core(count, 20.0))
     with RosMaster(args.out / "logs") as master:
-        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        master.use_in_this_process()
         import rospy
 
         rospy.init_node("bench_sim", disable_signals=True)

@@ -241,7 +241,7 @@ def main(argv: list[str] | None = None) -> int:
     import rospy
 
     with RosMaster(args.out / "logs") as master:
-        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        master.use_in_this_process()
         subprocess.run(["rosparam", "set", "/use_sim_time", "true"], check=True, env=master.env)
         rospy.init_node("bench_tracking", disable_signals=True)  # on the simulator's clock, as the stamps are
         for speed in args.speeds:

@@ -11,7 +11,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
 import threading
 import time
@@ -111,7 +110,7 @@ def main(argv: list[str] | None = None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     print(f"single-robot demo: up to {args.sim_seconds:.0f} s of sim time, logs in {out}", flush=True)
     with RosMaster(out / "logs") as master:
-        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        master.use_in_this_process()
         import rospy
 
         rospy.init_node("demo_watcher", disable_signals=True)

@@ -366,7 +366,7 @@ def play(argv: list[str] | None) -> int:
           f"{f', seeing through their cameras: {vision}' if str(vision) else ''}; folder {out}", flush=True)
     perf: PerfMonitor | None = None
     with RosMaster(out / "logs") as master:
-        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        master.use_in_this_process()
         import rospy
 
         print(f"  ROS master {master.uri} (ROS_MASTER_URI for rostopic, rosbag or the coach)", flush=True)

@@ -22,7 +22,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import shutil
 import subprocess
 import sys
@@ -64,7 +63,7 @@ def main() -> int:
 
 def run(args: argparse.Namespace, result: dict, logs: Path) -> None:
     with RosMaster(logs) as master:
-        os.environ.update({k: master.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
+        master.use_in_this_process()
         import rospy
         from std_msgs.msg import Bool
 

@@ -96,25 +96,30 @@ def main(argv: list[str] | None = None) -> int:
         launch_file.write_text(team_launch_xml(team, args.tracker, vision))
         child = subprocess.Popen(["roslaunch", "--skip-log-check", str(launch_file)], start_new_session=True)
         print(f"[spawn] team {team.name}: {len(team.robots)} robots' nodes started (pid {child.pid})", flush=True)
-        stopping = False
-
-        def stop(*_args: object) -> None:
-            nonlocal stopping
-            stopping = True
-
-        signal.signal(signal.SIGINT, stop)
-        signal.signal(signal.SIGTERM, stop)
-        while not stopping and child.poll() is None:
-            time.sleep(0.2)
-        if child.poll() is None:
-            child.send_signal(signal.SIGINT)
-            try:
-                child.wait(timeout=15)
-            except subprocess.TimeoutExpired:
-                child.kill()
+        _supervise(child)
     if not args.keep_models:
         delete_models(team)
     return 0
+
+
+def _supervise(child: subprocess.Popen) -> None:
+    """Wait for the team's roslaunch to end, or for SIGINT or SIGTERM, then end it (SIGINT, SIGKILL after 15 s)."""
+    stopping = False
+
+    def stop(*_args: object) -> None:
+        nonlocal stopping
+        stopping = True
+
+    signal.signal(signal.SIGINT, stop)
+    signal.signal(signal.SIGTERM, stop)
+    while not stopping and child.poll() is None:
+        time.sleep(0.2)
+    if child.poll() is None:
+        child.send_signal(signal.SIGINT)
+        try:
+            child.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            child.kill()
 
 
 if __name__ == "__main__":
