@@ -397,7 +397,11 @@ def _fit(route: np.ndarray, direction: Point | None) -> tuple[BSpline, np.ndarra
     u = _chord_params(route)
     natural = [(2, (0.0, 0.0))]
     first = natural if direction is None else [(1, direction)]
-    return make_interp_spline(u, route, k=3, bc_type=(first, natural), check_finite=False), u
+    # The knots make_interp_spline would choose for these end conditions (the ends repeated k + 1 times),
+    # given: it builds them with np.r_, which costs a third of the fit.
+    knots = np.empty(len(u) + 6)
+    knots[:3], knots[3:-3], knots[-3:] = u[0], u, u[-1]
+    return make_interp_spline(u, route, k=3, t=knots, bc_type=(first, natural), check_finite=False), u
 
 
 def _corrections(samples: np.ndarray, at: np.ndarray, route: np.ndarray, u: np.ndarray, scene: _Scene,
