@@ -53,12 +53,12 @@ def in_process_drift(goalie: bool, seed: int, seconds: float = 60.0) -> dict:
 def in_namespace(scenario: str, seconds: float) -> dict:
     from nubot_comm import netns
 
-    out = Path(tempfile.mkdtemp(prefix="bench_hw_")) / f"{scenario}.json"
-    with netns.NetNamespace(f"bench{scenario}") as ns:
+    with tempfile.TemporaryDirectory(prefix="bench_hw_") as folder, netns.NetNamespace(f"bench{scenario}") as ns:
+        out = Path(folder) / f"{scenario}.json"
         subprocess.run(ns.command(sys.executable, "-m", "nubot_tools.ros.real_robot_run", "--scenario", scenario,
                                   "--seconds", str(seconds), "--out", str(out)), check=True, timeout=seconds * 4 + 120,
                        stdin=subprocess.DEVNULL)
-    return json.loads(out.read_text())
+        return json.loads(out.read_text())
 
 
 def main() -> int:

@@ -172,7 +172,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"[bench] team link: {args.rate:g} packets/s for {args.seconds:g} s at {loss} % loss ...", flush=True)
             rows.append(measure_latency(ns, loss, args.seconds, args.rate))
         print(f"[bench] team link: one team_link node for {args.seconds:g} s ...", flush=True)
-        cpu = measure_node_cpu(ns, args.seconds, Path(tempfile.mkdtemp(prefix="bench_team_link_")))
+        with tempfile.TemporaryDirectory(prefix="bench_team_link_") as logs:
+            cpu = measure_node_cpu(ns, args.seconds, Path(logs))
     result = {"url": DEFAULT_URL, "rate_hz": args.rate, "seconds": args.seconds,
               "latency": [{k: v for k, v in row.items() if k != "latencies_ms"} for row in rows], "node": cpu}
     (args.out / "team_link.json").write_text(json.dumps(result, indent=2) + "\n")
