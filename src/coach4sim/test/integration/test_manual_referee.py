@@ -1,7 +1,6 @@
 """The referee node with ~auto false: manual commands only, no simulator needed."""
 
 import time
-import xmlrpc.client
 
 import pytest
 
@@ -29,8 +28,8 @@ def test_manual_referee_waits_for_commands_and_mirrors_them(manual_referee, ros_
     watcher, process = manual_referee
     assert (watcher.mode("nubot"), watcher.mode("rival")) == (0, 0), "STOPROBOT until told otherwise"
     assert watcher.game.half == 0 and watcher.game.last_event == ""
-    _, _, (_, subscribers, _) = xmlrpc.client.ServerProxy(ros_master.uri).getSystemState("/t")
-    assert "/referee" not in dict(subscribers).get("/sim_visual/model_states", []), "no rules without auto"
+    assert "/referee" not in ros_master.graph().subscribers.get("/sim_visual/model_states", ()), \
+        "no rules without auto"
     response = watcher.command("OUR_FREEKICK", team="rival")
     assert response.accepted and response.message == "OUR_FREEKICK for rival"
     watcher.wait_for(lambda: (watcher.mode("nubot"), watcher.mode("rival")) == (12, 11), timeout=5,

@@ -2,7 +2,6 @@
 
 import subprocess
 import time
-import xmlrpc.client
 
 import pytest
 
@@ -23,11 +22,10 @@ def test_each_team_hears_its_own_view_every_30_ms_from_the_referee_alone(match_w
     start = time.monotonic()
     time.sleep(1.0)
     assert 20 <= len(watcher.modes_since("nubot", start)) <= 40, "CoachInfo every 30 ms (33 a second)"
-    code, _, (publishers, _, services) = xmlrpc.client.ServerProxy(ros_master.uri).getSystemState("/t")
-    published, served = dict(publishers), dict(services)
+    graph = ros_master.graph()
     for topic in ("/nubot/receive_from_coach", "/rival/receive_from_coach", "/referee/state"):
-        assert published[topic] == ["/referee"], f"{topic}: {published[topic]}"
-    assert served["/referee/command"] == ["/referee"]
+        assert graph.publishers[topic] == {"/referee"}, f"{topic}: {graph.publishers[topic]}"
+    assert graph.services["/referee/command"] == {"/referee"}
     assert "the first half begins: kickoff for nubot" in referee.log_text()
 
 
@@ -148,8 +146,8 @@ def test_without_a_referee_the_coach_publishes_the_command_itself(match_world, r
     """Stops the referee: keep this test last in the module."""
     watcher, _, referee = match_world
     referee.stop()
-    watcher.wait_for(lambda: "/referee/command" not in dict(
-        xmlrpc.client.ServerProxy(ros_master.uri).getSystemState("/t")[2][2]), timeout=10, what="the referee gone")
+    watcher.wait_for(lambda: "/referee/command" not in ros_master.graph().services, timeout=10,
+                     what="the referee gone")
     since = time.monotonic()
     result = _coach(ros_master, "OUR_PENALTY", "--team", "rival")
     assert result.returncode == 0, result.stderr

@@ -1,10 +1,11 @@
 """The automatic referee judges the simulator's model states at their own sim time (their stamp)."""
 
 import time
-import xmlrpc.client
 from pathlib import Path
 
 import pytest
+
+from nubot_tools.processes import ros_graph
 
 pytestmark = pytest.mark.integration
 
@@ -12,8 +13,7 @@ WORLD = Path(__file__).resolve().parents[3] / "nubot_common" / "config" / "world
 
 
 def subscribers(master_uri: str, topic: str) -> list[str]:
-    _, _, (_, subs, _) = xmlrpc.client.ServerProxy(master_uri).getSystemState("/test")
-    return dict(subs).get(topic, [])
+    return sorted(ros_graph(master_uri).subscribers.get(topic, ()))
 
 
 def test_a_kickoff_set_up_before_the_referee_s_first_clock_tick_lasts_its_setup_time(ros_master, make_watcher):

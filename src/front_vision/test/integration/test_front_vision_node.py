@@ -118,16 +118,13 @@ def test_a_bad_image_is_answered_with_pos_known_false_and_the_node_lives_on(fron
 
 def test_the_graph_matches_the_topic_table(front, ros_master) -> None:
     import re
-    import xmlrpc.client
 
     table = Path(__file__).resolve().parents[4] / "docs" / "topics.md"
     text = table.read_text().split("## Topics of a regular robot seeing through its cameras")[1].split("## ")[0]
     rows = [[c.strip().strip("`").replace("<r>", "nubot2") for c in line.strip("|").split("|")]
             for line in text.splitlines() if line.startswith("| `")]
     assert len(rows) == 3
-    code, _, (publishers, _subscribers, _services) = xmlrpc.client.ServerProxy(ros_master.uri).getSystemState("/t")
-    assert code == 1
-    published = {topic: set(nodes) for topic, nodes in publishers}
+    published = ros_master.graph().publishers
     for topic, _type, producer, *_ in rows:
         nodes = set(re.findall(r"/[a-z_0-9]+(?:/[a-z_]+)?", producer))
         assert published.get(topic) and published[topic] <= nodes and len(published[topic]) == 1, \

@@ -326,8 +326,7 @@ def main() -> int:
                     raise RuntimeError("the links did not hear their teams")
                 time.sleep(0.05)
             result["ready_after"] = time.monotonic() - start
-            _code, _, (publishers, _subs, _srvs) = xmlrpc.client.ServerProxy(master.uri).getSystemState("/t")
-            result["publishers"] = {topic: sorted(nodes) for topic, nodes in publishers}
+            result["publishers"] = {topic: sorted(nodes) for topic, nodes in master.graph().publishers.items()}
             result["measure"] = watcher.record(args.seconds)
             result["status"] = dict(watcher.status)
             if args.fuzz:

@@ -120,15 +120,13 @@ def test_after_start_the_teams_play_the_ball(match):
 
 def test_running_match_graph_matches_the_topic_table(match):
     import re
-    import xmlrpc.client
 
     master, watch = match
     text = (ROOT / "docs" / "topics.md").read_text().split("## Topics of a match")[1].split("## ")[0]
     rows = [[c.strip().strip("`") for c in line.strip("|").split("|")] for line in text.splitlines()
             if line.startswith("| `")]
-    code, _, (publishers, subscribers, _services) = xmlrpc.client.ServerProxy(master.uri).getSystemState("/t")
-    published = {topic: set(nodes) for topic, nodes in publishers}
-    heard = {topic: set(nodes) for topic, nodes in subscribers}
+    graph = master.graph()
+    published, heard = graph.publishers, graph.subscribers
     assert {"/nubot1/world_model"} <= heard.get("/nubot1/kinect/ballinfo", set()), "the goalie's 3-D ball"
     assert published.get("/nubot1/kinect/ballinfo") == {"/sim_visual"}
     assert {"/nubot3/nubot_control"} <= heard.get("/nubot3/worldmodel/ballflight", set())

@@ -17,6 +17,7 @@ import subprocess
 import time
 import xmlrpc.client
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any, TypeVar
 
@@ -163,6 +164,24 @@ def _descendants(root: int) -> list[int]:
     return found
 
 
+@dataclass(frozen=True)
+class RosGraph:
+    """Who publishes, subscribes to and serves what, by topic or service name (the master's getSystemState)."""
+
+    publishers: dict[str, set[str]]
+    subscribers: dict[str, set[str]]
+    services: dict[str, set[str]]
+
+
+def ros_graph(master_uri: str) -> RosGraph:
+    """The graph the master at ``master_uri`` knows now."""
+    answer: Any = xmlrpc.client.ServerProxy(master_uri).getSystemState("/nubot_probe")
+    code, message, (publishers, subscribers, services) = answer
+    if code != 1:
+        raise RuntimeError(f"the master at {master_uri} refused getSystemState: {message}")
+    return RosGraph(*({name: set(nodes) for name, nodes in rows} for rows in (publishers, subscribers, services)))
+
+
 class RosMaster:
     """A private ``roscore`` on a free port; use as a context manager."""
 
@@ -204,6 +223,10 @@ class RosMaster:
                 raise RuntimeError(f"roscore exited:\n{self.core.log_text()}")
             time.sleep(0.1)
         raise TimeoutError(f"roscore on port {self.port} did not come up in {timeout} s")
+
+    def graph(self) -> RosGraph:
+        """Who publishes, subscribes to and serves what, now."""
+        return ros_graph(self.uri)
 
     def launch(self, name: str, args: Sequence[str]) -> Launched:
         """Start ``args`` (e.g. ``["roslaunch", "sim_visual", "single_robot.launch"]``) against this master."""

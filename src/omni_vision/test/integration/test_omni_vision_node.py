@@ -7,7 +7,6 @@ import math
 import re
 import threading
 import time
-import xmlrpc.client
 from pathlib import Path
 
 import numpy as np
@@ -93,9 +92,7 @@ def test_the_demo_scores_on_camera_images_alone_and_the_graph_matches_the_table(
     assert np.mean([e.position_error for e in tracked]) < 0.06, "mean error under 6 cm (the chapter's figure)"
     assert np.mean([e.heading_error for e in tracked]) < math.radians(2.0)
     # The graph of a robot seeing through its camera: each topic of the table has its one producer.
-    code, _, (publishers, _subscribers, _services) = xmlrpc.client.ServerProxy(ros_master.uri).getSystemState("/t")
-    assert code == 1
-    published = {topic: set(nodes) for topic, nodes in publishers}
+    published = ros_master.graph().publishers
     for topic, _type, producer, *_ in _table_rows("Topics of a robot seeing through its camera"):
         if topic == "/nubot1/omnivision/debug_image":
             assert topic in published  # advertised; drawn only while someone subscribes
