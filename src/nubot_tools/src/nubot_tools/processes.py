@@ -176,10 +176,10 @@ class RosGraph:
 def ros_graph(master_uri: str) -> RosGraph:
     """The graph the master at ``master_uri`` knows now."""
     answer: Any = xmlrpc.client.ServerProxy(master_uri).getSystemState("/nubot_probe")
-    code, message, (publishers, subscribers, services) = answer
+    code, message, state = answer
     if code != 1:
         raise RuntimeError(f"the master at {master_uri} refused getSystemState: {message}")
-    return RosGraph(*({name: set(nodes) for name, nodes in rows} for rows in (publishers, subscribers, services)))
+    return RosGraph(*({name: set(nodes) for name, nodes in rows} for rows in state))
 
 
 class RosMaster:
