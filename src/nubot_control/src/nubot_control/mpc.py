@@ -117,7 +117,8 @@ def _array(value: ArrayLike, shape: tuple[int, ...], name: str) -> np.ndarray:
             raise ValueError(f"{name} must be numbers of shape {shape}: {exc}") from exc
     if array.shape != shape:
         raise ValueError(f"{name} must have shape {shape}, got {array.shape}")
-    if not np.isfinite(array).all():
+    # A finite sum means every element is finite (it is the cheaper test); an infinite one may only have overflowed.
+    if not math.isfinite(array.sum()) and not np.isfinite(array).all():
         raise ValueError(f"{name} must be finite, got {array.tolist()}")
     return array
 
@@ -159,10 +160,12 @@ class LaguerreMpc:
         cumulative = np.cumsum(basis, axis=0)  # u_{k+i} - u_{k-1} = cumulative[i] @ eta_axis
         # Per axis, e_{k+1..k+H} = free response + phi @ eta_axis with phi[i-1] = dt * sum_{j<i} cumulative[j].
         phi = p.dt * np.cumsum(cumulative, axis=0)
-        self._carry = p.dt * np.arange(1, h + 1)  # how far u_{k-1} held constant carries the robot by step i
+        self._carry = p.dt * np.arange(1, h + 1)[:, None]  # how far u_{k-1} held constant carries the robot by step i
         hessian = p.position_weight * phi.T @ phi + p.effort_weight * np.eye(n)  # same for both axes
-        self._gradient = p.position_weight * phi.T  # q_axis = gradient @ free_axis
-        self._hessian_inv = np.linalg.inv(hessian)
+        # Per axis, q_axis = position_weight * phi.T @ free_axis and the unconstrained optimum is -H^-1 q_axis. Both
+        # axes are one product each, with the axes as rows: (2, H) @ (H, N), then (2, N) @ (N, N).
+        self._gradient_t = np.ascontiguousarray(p.position_weight * phi)
+        self._hessian_inv_t = np.ascontiguousarray(np.linalg.inv(hessian).T)
 
         # Inscribed polygon, a vertex at angle 0 (on both axes if 4 divides M): side normals n_j, sides at
         # cos(pi/M) of the radius.
@@ -182,10 +185,18 @@ class LaguerreMpc:
         self._per_step = np.tile(np.arange(count), nc)  # a side's bound repeated for each constrained step
         accel = p.max_accel * p.dt * self._apothem
         self._accel_upper = np.full(nc * count, accel)
-        self._accel_lower = -self._accel_upper if self._two_sided else np.full(nc * count, -np.inf)
+        self._accel_lower = -self._accel_upper if self._two_sided else np.full(nc * count, -_UNBOUNDED)
         self._qp_hessian = np.ascontiguousarray(np.kron(np.eye(2), hessian))
         self._qp_rows = np.ascontiguousarray(np.vstack((self._a_speed, self._a_accel)))
         self._qp_sense = np.zeros(len(self._qp_rows), dtype=np.intc)  # every row an inequality
+        # The rows' bounds, filled in each call (so one instance serves one control loop at a time): the speed sides
+        # first (they move with u_{k-1}), then the acceleration sides. One side only (M odd): the other bound is
+        # DAQP's "none".
+        self._upper = np.full(len(self._qp_rows), _UNBOUNDED)
+        self._lower = np.full(len(self._qp_rows), -_UNBOUNDED)
+        speed_rows = len(self._a_speed)
+        self._upper_speed, self._lower_speed = self._upper[:speed_rows], self._lower[:speed_rows]
+        self._upper_accel, self._lower_accel = self._upper[speed_rows:], self._lower[speed_rows:]
         self._fallbacks = 0
         self._last_status = "not run"
 
@@ -199,18 +210,9 @@ class LaguerreMpc:
         """How the last command was found: 'unconstrained', 'solved' (by the QP solver), or 'fallback: <reason>'."""
         return self._last_status
 
-    def _speed_bounds(self, previous: np.ndarray, speed: float) -> tuple[np.ndarray, np.ndarray]:
-        """Bounds on the speed rows: n_j . (u_{k-1} + du_k + ... + du_{k+i}) within the polygon of ``speed``."""
-        offset = self._normals @ previous
-        upper = (speed * self._apothem - offset)[self._per_step]
-        if not self._two_sided:
-            return np.full_like(upper, -np.inf), upper
-        return (-speed * self._apothem - offset)[self._per_step], upper
-
     def _move(self, previous: np.ndarray, eta: np.ndarray) -> np.ndarray:
-        """The first command u_k = u_{k-1} + du_k of the plan ``eta``."""
-        n = self.params.laguerre_terms
-        return previous + np.array([self._first @ eta[:n], self._first @ eta[n:]])
+        """The first command u_k = u_{k-1} + du_k of the plan ``eta`` ([eta_x, eta_y])."""
+        return previous + eta.reshape(2, -1) @ self._first
 
     def command(self, position: ArrayLike, previous: ArrayLike, ref_positions: ArrayLike,
                 ref_velocities: ArrayLike, max_speed: float | None = None,
@@ -226,7 +228,7 @@ class LaguerreMpc:
         max_accel: likewise a lower acceleration limit for this call, None = params.max_accel.
         """
         p = self.params
-        h, n = p.horizon, p.laguerre_terms
+        h = p.horizon
         position = _array(position, (2,), "position")
         previous = _array(previous, (2,), "previous")
         ref_positions = _array(ref_positions, (h + 1, 2), "ref_positions")
@@ -238,28 +240,30 @@ class LaguerreMpc:
         if not (math.isfinite(accel) and 0.0 < accel <= p.max_accel):
             raise ValueError(f"max_accel must lie in (0, {p.max_accel}], got {max_accel}")
         step = accel * p.dt
-        if accel == p.max_accel:  # the common case: the bounds as set up
-            accel_upper, accel_lower = self._accel_upper, self._accel_lower
-        else:
-            accel_upper, accel_lower = (self._accel_upper * (accel / p.max_accel),
-                                        self._accel_lower * (accel / p.max_accel))
 
-        # Predicted errors e_{k+1..k+H} if u stayed u_{k-1} (eta = 0), shape (H, 2); then the QP gradient.
-        free = position + np.outer(self._carry, previous) - ref_positions[1:]
-        q = (self._gradient @ free).T.ravel()  # [q_x, q_y]
-        eta = -np.concatenate((self._hessian_inv @ q[:n], self._hessian_inv @ q[n:]))
-        unconstrained = self._move(previous, eta)
+        # Predicted errors e_{k+1..k+H} if u stayed u_{k-1} (eta = 0), shape (H, 2); per axis (rows x, y) the QP
+        # gradient and the unconstrained optimum. This runs every cycle of every robot, where numpy's per-call
+        # overhead outweighs the arithmetic: both axes in one product each, the bounds filled in place.
+        free = position + self._carry * previous - ref_positions[1:]
+        gradient = free.T @ self._gradient_t
+        optimum = gradient @ self._hessian_inv_t  # -eta per axis
+        q, eta = gradient.ravel(), -optimum.ravel()  # [q_x, q_y], [eta_x, eta_y]
+        unconstrained = previous - optimum @ self._first
 
-        speed_lower, speed_upper = self._speed_bounds(previous, speed)
-        speed_rows, accel_rows = self._a_speed @ eta, self._a_accel @ eta
-        if ((speed_rows <= speed_upper).all() and (speed_rows >= speed_lower).all()
-                and (accel_rows <= accel_upper).all() and (accel_rows >= accel_lower).all()):
+        # Speed: n_j . (u_{k-1} + du_k + ... + du_{k+i}) within the polygon of ``speed``; acceleration: n_j . du.
+        offset = (self._normals @ previous)[self._per_step]
+        np.subtract(speed * self._apothem, offset, out=self._upper_speed)
+        if self._two_sided:
+            np.subtract(-speed * self._apothem, offset, out=self._lower_speed)
+        scale = accel / p.max_accel
+        np.multiply(self._accel_upper, scale, out=self._upper_accel)
+        np.multiply(self._accel_lower, scale, out=self._lower_accel)
+        rows = self._qp_rows @ eta
+        if (rows <= self._upper).all() and (rows >= self._lower).all():
             status = "unconstrained"
             command = _project_two_discs(unconstrained, speed, previous, step)  # inside already, bar rounding
         else:
-            lower = np.maximum(np.concatenate((speed_lower, accel_lower)), -_UNBOUNDED)
-            x, _, flag, _ = daqp.solve(self._qp_hessian, q, self._qp_rows,
-                                       np.concatenate((speed_upper, accel_upper)), lower, self._qp_sense)
+            x, _, flag, _ = daqp.solve(self._qp_hessian, q, self._qp_rows, self._upper, self._lower, self._qp_sense)
             status = _DAQP_STATUS.get(flag, f"exit flag {flag}")
             command = None
             if status == "solved" and np.isfinite(x).all():

@@ -209,10 +209,8 @@ def test_a_constrained_command_is_the_first_move_of_the_qp_s_exact_optimum():
         if mpc.last_status != "solved":
             continue
         free = position + np.outer(DT * np.arange(1, H + 1), previous) - ref_positions[1:]
-        q = (mpc._gradient @ free).T.ravel()
-        speed_lower, speed_upper = mpc._speed_bounds(previous, P.max_speed)
-        eta = solve_exactly(mpc._qp_hessian, q, mpc._qp_rows, np.concatenate((speed_lower, mpc._accel_lower)),
-                            np.concatenate((speed_upper, mpc._accel_upper)))
+        q = (free.T @ mpc._gradient_t).ravel()  # the QP of this call: its gradient, rows and bounds
+        eta = solve_exactly(mpc._qp_hessian, q, mpc._qp_rows, mpc._lower.copy(), mpc._upper.copy())
         exact = previous + np.array([first @ eta[:n], first @ eta[n:]])
         np.testing.assert_allclose(u, exact, atol=1e-5)
         checked += 1
