@@ -10,24 +10,11 @@ import pytest
 from front_vision.camera_model import load_camera
 from front_vision.pipeline import FrontVisionParams
 from nubot_common.params import from_mapping, load_yaml
+from nubot_tools.launch_checks import launched
 from omni_vision.colors import ColorTable
 
 SRC = Path(__file__).resolve().parents[3]
 
-
-def launched(launch: Path, *args: str) -> dict[str, dict]:
-    """The nodes a launch file starts with ``args``: namespaced name -> its private parameters and remappings."""
-    import roslaunch.config
-    import roslaunch.xmlloader
-
-    config = roslaunch.config.ROSLaunchConfig()
-    roslaunch.xmlloader.XmlLoader().load(str(launch), config, argv=["roslaunch", *args], verbose=False)
-    nodes = {}
-    for node in config.nodes:
-        name = f"{node.namespace.rstrip('/')}/{node.name}"
-        private = {k[len(name) + 1:]: p.value for k, p in config.params.items() if k.startswith(name + "/")}
-        nodes[name] = {"package": node.package, "remap": dict(node.remap_args), **private}
-    return nodes
 
 
 @pytest.mark.parametrize("robot, goalie_id, perception, started", [
@@ -48,7 +35,7 @@ def test_the_node_gets_the_shipped_parameters_camera_and_table():
     ColorTable.load(node["color_table"])
     own: dict = {}
     for key, value in node.items():
-        if key not in ("robot", "remap", "package", "camera", "color_table"):
+        if key not in ("robot", "remap", "package", "type", "camera", "color_table"):
             *path, leaf = key.split("/")
             branch = own
             for part in path:

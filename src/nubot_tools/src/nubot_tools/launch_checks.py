@@ -1,8 +1,9 @@
 """Checks of how nodes take their parameters over a real roscore, shared by the packages' tests (no rospy).
 
-Provides ``run_refused`` (run a node with one bad private parameter: its exit status and output) and
+Provides ``run_refused`` (run a node with one bad private parameter: its exit status and output),
 ``refused_then_up`` (a launch with a typo in its YAML is refused; the same launch without it, on the
-same roscore, then comes up: nothing the refused one loaded stays behind).
+same roscore, then comes up: nothing the refused one loaded stays behind) and ``launched`` (the nodes a launch
+file starts, parsed by roslaunch with nothing started).
 """
 
 from __future__ import annotations
@@ -68,3 +69,19 @@ def publishes(topic: str, node: str) -> Callable[[Any], bool]:
 def serves(service: str) -> Callable[[Any], bool]:
     """``is_up`` for ``refused_then_up``: someone serves ``service``."""
     return lambda master: master.lookupService("/t", service)[0] == 1
+
+
+def launched(launch: Path, *args: str) -> dict[str, dict]:
+    """The nodes a launch file starts with ``args``: namespaced name -> its package, type, remappings and private
+    parameters (parsed by roslaunch; nothing is started and no master is needed)."""
+    import roslaunch.config
+    import roslaunch.xmlloader
+
+    config = roslaunch.config.ROSLaunchConfig()
+    roslaunch.xmlloader.XmlLoader().load(str(launch), config, argv=["roslaunch", *args], verbose=False)
+    nodes = {}
+    for node in config.nodes:
+        name = f"{node.namespace.rstrip('/')}/{node.name}"
+        private = {k[len(name) + 1:]: p.value for k, p in config.params.items() if k.startswith(name + "/")}
+        nodes[name] = {"package": node.package, "type": node.type, "remap": dict(node.remap_args), **private}
+    return nodes
