@@ -35,12 +35,13 @@ ROOT = Path(__file__).resolve().parents[3]
 class RunningMatch:
     """``run_match.py`` as a user starts it, with its output read line by line."""
 
-    def __init__(self, tmp_path: Path, teams: list[str], half_seconds: float, report: bool = True):
+    def __init__(self, tmp_path: Path, teams: list[str], half_seconds: float, report: bool = True,
+                 extra: tuple[str, ...] = ()):
         self.out = tmp_path / "matches"
         self.process = subprocess.Popen(
             [sys.executable, str(ROOT / "scripts" / "run_match.py"), "--half-seconds", str(half_seconds),
              "--halves", "1", "--out", str(self.out), "--viewer-port", "-1", *([] if report else ["--no-report"]),
-             *teams],
+             *teams, *extra],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
         self.lines: queue.Queue[str] = queue.Queue()
         self.text = ""
@@ -145,7 +146,8 @@ def match_pids(runner: int) -> set[int]:
 
 def test_dead_robot_nodes_are_reported_and_a_dead_recorder_cuts_the_match_short_with_its_bag_recovered(
         tmp_path, two_vs_two):
-    match = RunningMatch(tmp_path, two_vs_two, half_seconds=120)
+    # each robot's world model and control in two nodes: a dead world model leaves a control node to notice it
+    match = RunningMatch(tmp_path, two_vs_two, half_seconds=120, extra=("--processes", "two"))
     match.wait_for("kickoff for")
     time.sleep(4.0)
     # Every node of ours listens on loopback only; ROS's own C++ rosout and rosbag record open their XML-RPC
@@ -212,6 +214,10 @@ def test_a_dead_simulator_referee_or_master_ends_the_match_at_once_with_a_comple
     match = RunningMatch(tmp_path, one_vs_one, half_seconds=120, report=False)
     match.wait_for("kickoff for")
     time.sleep(3.0)
+    if node == "/sim_visual":  # first a robot's node (one a robot, the default) dies: reported, the match goes on
+        match.kill("/nubot1/robot")
+        match.wait_for("node /nubot1/robot died", timeout=10)
+        assert match.process.poll() is None, "the match goes on without a robot node"
     before = match.sim_time()
     if node == "/master":
         port = match.master.rstrip("/").rsplit(":", 1)[1]

@@ -1,4 +1,5 @@
-"""Team play over real ROS: two teams of three spawned by the spawner, driven by world_model + nubot_control."""
+"""Team play over real ROS: two teams of three spawned by the spawner, each robot's world model and nubot_control in
+one node (/<r>/robot) for nubot and in two (/<r>/world_model, /<r>/nubot_control) for rival."""
 
 import itertools
 import math
@@ -17,6 +18,13 @@ pytestmark = pytest.mark.integration
 ROOT = Path(__file__).resolve().parents[4]
 TEAM = {"robots": [{"x": -8.4, "y": 0.0, "theta": 0.0}, {"x": -1.5, "y": 1.0, "theta": 0.0},
                    {"x": -3.0, "y": -2.0, "theta": 0.0}], "goalie": 1}
+PROCESSES = {"nubot": "one", "rival": "two"}  # the spawner's --processes for each team
+
+
+def robot_nodes(robot: str) -> set[str]:
+    """The nodes of a robot's world model and control."""
+    team = robot.rstrip("0123456789")
+    return {f"/{robot}/robot"} if PROCESSES[team] == "one" else {f"/{robot}/world_model", f"/{robot}/nubot_control"}
 
 
 class Watch:
@@ -53,7 +61,7 @@ def match(ros_master, tmp_path_factory):
         path = folder / f"{prefix}.yaml"
         path.write_text(yaml.safe_dump({"name": prefix, "prefix": prefix, "attack": attack, **TEAM}))
         teams.append(ros_master.launch(f"team_{prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
-                                                          str(path)]))
+                                                          str(path), "--processes", PROCESSES[prefix]]))
     watch = Watch()
     from nubot_tools.ros.match_runner import wait_for_robots
 
@@ -127,9 +135,14 @@ def test_running_match_graph_matches_the_topic_table(match):
             if line.startswith("| `")]
     graph = master.graph()
     published, heard = graph.publishers, graph.subscribers
-    assert {"/nubot1/world_model"} <= heard.get("/nubot1/kinect/ballinfo", set()), "the goalie's 3-D ball"
+    assert {"/nubot1/robot"} <= heard.get("/nubot1/kinect/ballinfo", set()), "the goalie's 3-D ball"
+    assert {"/rival1/world_model"} <= heard.get("/rival1/kinect/ballinfo", set()), "the goalie's 3-D ball"
     assert published.get("/nubot1/kinect/ballinfo") == {"/sim_visual"}
-    assert {"/nubot3/nubot_control"} <= heard.get("/nubot3/worldmodel/ballflight", set())
+    assert {"/rival3/nubot_control"} <= heard.get("/rival3/worldmodel/ballflight", set())
+    # in one process the robot's own decisions do not go back into it over ROS
+    for topic in ("worldmodel/worldmodelinfo", "worldmodel/ballflight", "nubotcontrol/strategy",
+                  "nubotcontrol/targetinfo"):
+        assert "/nubot3/robot" not in heard.get(f"/nubot3/{topic}", set()), topic
     checked = 0
     for topic, _type, producer, *_ in rows:
         if topic.startswith(("/<T>/receive_from_coach", "/referee")):
@@ -138,6 +151,8 @@ def test_running_match_graph_matches_the_topic_table(match):
             team = robot.rstrip("0123456789")
             name = topic.replace("<r>", robot).replace("<T>", team)
             want = {re.sub(r"<r>", robot, p).replace("<T>", team) for p in re.findall(r"/[<>a-zA-Z_/]+", producer)}
+            if PROCESSES[team] == "one" and want & {f"/{robot}/world_model", f"/{robot}/nubot_control"}:
+                want = {f"/{robot}/robot"}  # the table's two nodes are one node here (the paragraph above it)
             assert published.get(name) == want, f"{name}: published by {published.get(name)}, table says {want}"
             checked += 1
     assert checked == 24
@@ -189,7 +204,7 @@ def test_only_the_nodes_that_keep_sim_time_take_the_clock(match):
     import rosgraph
     import rospy
 
-    robots = {f"/{p}{k}/{n}" for p in ("nubot", "rival") for k in (1, 2, 3) for n in ("world_model", "nubot_control")}
+    robots = set().union(*(robot_nodes(f"{p}{k}") for p in ("nubot", "rival") for k in (1, 2, 3)))
     others = {"/nubot/sim_interface", "/rival/sim_interface", "/sim_visual", "/match_markers", rospy.get_name()}
 
     def clock() -> set[str]:
@@ -200,15 +215,16 @@ def test_only_the_nodes_that_keep_sim_time_take_the_clock(match):
     assert clock() <= robots | others, f"/clock goes also to {sorted(clock() - robots - others)}"
 
 
-def test_killing_a_control_node_hands_its_role_to_a_teammate(match):
-    """Last in this module: it kills nubot2's or nubot3's control node, which the tests above listen to."""
+def test_killing_a_robot_node_hands_its_role_to_a_teammate(match):
+    """Last in this module: it kills nubot2's or nubot3's node (world model and control in one), which the tests
+    above listen to."""
     master, watch = match
     pubs = coach(master, "nubot", 15), coach(master, "rival", 15)
     try:
         watch.wait(lambda: any(r == 1 for _, r in watch.roles.values()), 20, "an ACTIVE robot")
         victim = next(n for n, (_, r) in watch.roles.items() if r == 1)
         other = "nubot3" if victim == "nubot2" else "nubot2"
-        subprocess.run(["rosnode", "kill", f"/{victim}/nubot_control"], env=master.env, check=True,
+        subprocess.run(["rosnode", "kill", f"/{victim}/robot"], env=master.env, check=True,
                        capture_output=True, timeout=20)
         killed = time.monotonic()
         watch.wait(lambda: watch.roles[other][1] == 1 and time.monotonic() - watch.roles[other][0] < 1.0, 20,

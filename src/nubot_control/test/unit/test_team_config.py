@@ -35,6 +35,11 @@ def test_launch_file_prefixes_every_robot():
     assert {inc.find("arg[@name='tracker']").get("value") for inc in root.findall("include")} == {""}
     chosen = ET.fromstring(team_launch_xml(team, "baseline"))
     assert {inc.find("arg[@name='tracker']").get("value") for inc in chosen.findall("include")} == {"baseline"}
+    for processes in ("one", "two"):
+        split = ET.fromstring(team_launch_xml(team, processes=processes))
+        assert {inc.find("arg[@name='processes']").get("value") for inc in split.findall("include")} == {processes}
+    with pytest.raises(NubotCommonError, match="processes per robot: one or two, not 'three'"):
+        team_launch_xml(team, processes="three")
 
 
 def test_bad_team_configs_are_refused():

@@ -66,8 +66,8 @@ class GameWatcher:
 class PerfMonitor:
     """Measures a running match: real-time factor, each robot's control rate, CPU and memory per node kind."""
 
-    KINDS = ("sim_visual_node", "world_model_node", "nubot_control_node", "sim_interface", "referee", "record",
-             "viewer", "match_markers", "rosmaster", "rosout")
+    KINDS = ("sim_visual_node", "robot_node", "world_model_node", "nubot_control_node", "sim_interface", "referee",
+             "record", "viewer", "match_markers", "rosmaster", "rosout")
 
     def __init__(self, robots: list[str], launched: list, rate: float = 33.0) -> None:
         self.rate = rate
@@ -178,16 +178,18 @@ RUN_FILE = "run.json"  # beside the bag: how the match ended, and every node tha
 
 class MatchRun:
     """Watches every node of the match: a dead simulator, recorder, referee or master cuts the match short;
-    a dead robot node (world_model, nubot_control, a team's relay) is reported and the match goes on."""
+    a dead robot node (robot, or world_model and nubot_control with two ``processes`` a robot; a team's relay) is
+    reported and the match goes on."""
 
     POLL = 0.5  # [s, wall]
 
-    def __init__(self, master: RosMaster, configs: list, out: Path):
+    def __init__(self, master: RosMaster, configs: list, out: Path, processes: str = "one"):
         nodes = {"/sim_visual": True, "/match_recorder": True, "/referee": True}
         for config in configs:
             nodes[f"/{config.prefix}/sim_interface"] = False
             for name in config.robot_names():
-                nodes |= {f"/{name}/world_model": False, f"/{name}/nubot_control": False}
+                parts = ("robot",) if processes == "one" else ("world_model", "nubot_control")
+                nodes |= {f"/{name}/{part}": False for part in parts}
         self.master = master
         self.watch = NodeWatch(master.uri, nodes)
         self.watcher = GameWatcher()
@@ -330,6 +332,8 @@ def play(argv: list[str] | None) -> int:
     parser.add_argument("--resources-period", type=float, default=10.0, help="[s, wall]")
     parser.add_argument("--tracker", choices=("mpc", "baseline"), default="",
                         help="the motion layer's tracker of every robot (default: as configured, mpc)")
+    parser.add_argument("--processes", choices=("one", "two"), default="one",
+                        help="each robot's world model and nubot_control in one node (default) or in two")
     parser.add_argument("--field", default="18x12",
                         help="the world: 18x12 (the chapter's field), 22x14 (the current MSL field) or a YAML file")
     parser.add_argument("--vision", default="",
@@ -371,7 +375,7 @@ def play(argv: list[str] | None) -> int:
 
         print(f"  ROS master {master.uri} (ROS_MASTER_URI for rostopic, rosbag or the coach)", flush=True)
         rospy.init_node("match_runner", disable_signals=True)
-        run = MatchRun(master, configs, out)
+        run = MatchRun(master, configs, out, args.processes)
         watcher = run.watcher
         sim = master.launch("sim", ["roslaunch", "--skip-log-check", "sim_visual", "match.launch",
                                     f"real_time_factor:={args.real_time_factor}", f"seed:={args.seed}",
@@ -388,7 +392,8 @@ def play(argv: list[str] | None) -> int:
         # loses is the chunk it was filling: 256 KB, about 0.3 s of a 5 vs 5 match.
         recorder = master.launch("recorder", ["rosbag", "record", "-a", "-x", UNRECORDED, "--chunksize=256", "-O",
                                               str(bag), "__name:=match_recorder"])
-        tracker = (["--tracker", args.tracker] if args.tracker else []) + ["--vision", str(vision)]
+        tracker = ((["--tracker", args.tracker] if args.tracker else []) + ["--vision", str(vision)]
+                   + ["--processes", args.processes])
         for team_file, config in zip(teams, configs):
             master.launch(f"team_{config.prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
                                                     str(team_file), *tracker])

@@ -70,6 +70,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="the motion layer's tracker for every robot (default: as configured)")
     parser.add_argument("--vision", default="",
                         help="robots that see through the simulated omni camera (omni_vision): all or nubot1,nubot2")
+    parser.add_argument("--processes", choices=("one", "two"), default="one",
+                        help="each robot's world model and nubot_control in one node (/ROBOT/robot) or in two "
+                             "(/ROBOT/world_model, /ROBOT/nubot_control); default one")
     args = parser.parse_args(argv)
     try:
         vision = RobotSelection.parse(args.vision)
@@ -93,7 +96,7 @@ def main(argv: list[str] | None = None) -> int:
     spawn_models(team)
     with tempfile.TemporaryDirectory(prefix=f"team_{team.prefix}_") as folder:  # gone with the team
         launch_file = Path(folder) / "team.launch"
-        launch_file.write_text(team_launch_xml(team, args.tracker, vision))
+        launch_file.write_text(team_launch_xml(team, args.tracker, vision, args.processes))
         child = subprocess.Popen(["roslaunch", "--skip-log-check", str(launch_file)], start_new_session=True)
         print(f"[spawn] team {team.name}: {len(team.robots)} robots' nodes started (pid {child.pid})", flush=True)
         _supervise(child)
