@@ -1,8 +1,8 @@
 """Benchmark full matches: 5 vs 5 over ROS at real time, and statistics over seeded short matches.
 
 For each tracker of the motion layer (mpc, then baseline) and each seed it runs ``run_match.py``
-(the whole stack: simulator, 10 robots' world_model and nubot_control, two relays, the automatic
-referee, rosbag) with performance monitoring, then reads the match report. Writes
+(the whole stack: simulator, 10 robots' world model and nubot_control, one node each, two relays, the
+automatic referee, rosbag) with performance monitoring, then reads the match report. Writes
 ``<out>/match.json`` with, per match, the achieved real-time factor, the control loops' rates and
 missed cycles, CPU (cores, per node kind) and memory, goals, passes, running share, robot-robot
 collisions and the time to reach a free ball; and their means per tracker over the seeds (the

@@ -2,9 +2,10 @@
 
     python scripts/bench_node_timer.py [--out bench/results] [--nodes 20] [--seconds 20] [--repeats 3]
 
-A 5 vs 5 match runs 20 such cycles (each robot's world_model at 30 Hz and nubot_control at 33 Hz) against a /clock
-of 100 Hz. Here ``--nodes`` idle rospy nodes take a /clock of ``--clock-rate`` Hz published by this process, in
-three kinds, measured in turn ``--repeats`` times for ``--seconds`` each:
+A 5 vs 5 match runs 10 such cycles at 33 Hz (each robot's node; 20 with ``--processes two``: world_model at 30 Hz,
+nubot_control at 33 Hz) against a /clock of 100 Hz. Here ``--nodes`` idle rospy nodes take a /clock of
+``--clock-rate`` Hz published by this process, in three kinds, measured in turn ``--repeats`` times for
+``--seconds`` each:
 - ``clock only``: no cycle; what the /clock deliveries alone cost;
 - ``rospy.Timer``: a 33 Hz cycle that does nothing, on rospy's timer (its thread wakes at every /clock);
 - ``node_io.timer``: the same cycle on the workspace's timer (its thread wakes only when a cycle is due).

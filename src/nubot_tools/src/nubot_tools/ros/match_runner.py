@@ -2,12 +2,14 @@
 
 Starts a private roscore on a free port, the simulator (``sim_visual match.launch``, which loads
 the match's world description into /world for every node), a recorder (``rosbag record -a``),
-both teams through the spawner (each robot's world_model and nubot_control under its prefix,
-one relay per team) and the automatic referee. Shows the game clock, the score and the last
-referee event while it plays; at the end writes ``matches/match-<time>/match.bag`` and the match
-report (report.json, heatmap.png, trajectories.png) from the bag alone.
+both teams through the spawner (each robot's world model and nubot_control under its prefix, in one
+node or, with ``--processes two``, in two; one relay per team) and the automatic referee. Shows the
+game clock, the score and the last referee event while it plays; at the end writes
+``matches/match-<time>/match.bag`` and the match report (report.json, heatmap.png, trajectories.png)
+from the bag alone.
 Parameters: ``--field`` (18x12, 22x14 or a world description YAML), ``--half-seconds`` [s of game
-time], ``--halves``, ``--real-time-factor``, ``--seed``, ``--team`` (twice), ``--tracker``, ``--out``.
+time], ``--halves``, ``--real-time-factor``, ``--seed``, ``--team`` (twice), ``--tracker``,
+``--processes``, ``--out``.
 """
 
 from __future__ import annotations

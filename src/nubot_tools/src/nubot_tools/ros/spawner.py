@@ -4,8 +4,8 @@ The chapter's "bash script": it reads the match's world description from /world 
 start poses off its field, then for each robot of the team configuration it calls
 /sim_visual/spawn_model (model name = prefix + AgentID, the same name prefixes every topic
 and service of that robot), then runs one roslaunch with the team's relay (sim_interface)
-and each robot's world_model and nubot_control. It keeps running until interrupted, then
-stops the team's nodes and (unless --keep-models) deletes its models.
+and each robot's world model and nubot_control (one node, or two with ``--processes two``). It
+keeps running until interrupted, then stops the team's nodes and (unless --keep-models) deletes its models.
 
     python scripts/spawn_team.py src/nubot_control/config/teams/nubot.yaml
 """
