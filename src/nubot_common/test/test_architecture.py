@@ -1,10 +1,12 @@
 """Pure cores: no module under src/<pkg>/src/ imports rospy (STYLE.md practice 1); scripts stay two lines;
 launch files clear each node's private parameters before loading its own.
 
-Three places may import rospy, and no robot or simulator decision lives in any: ``nubot_tools.ros``, tools that
-drive a ROS graph from outside (the match runner, the spawner, the benchmarks), as ``rostopic`` does;
-``nubot_common.node_io``, the rospy plumbing the nodes share; and ``coach4sim.ros``, the coach's way of sending a
-game command, which the coach, the viewer and the RefBox client share.
+Three kinds of places may import rospy, and no robot or simulator decision lives in any: ``nubot_tools.ros``,
+tools that drive a ROS graph from outside (the match runner, the spawner, the benchmarks), as ``rostopic`` does;
+``nubot_common.node_io``, the rospy plumbing the nodes share; and a package's ``<pkg>.ros``, adapters its nodes
+share (``coach4sim.ros``: the coach's way of sending a game command, which the coach, the viewer and the RefBox
+client share; ``world_model.ros`` and ``nubot_control.ros``: the two nodes' classes, which the robot node runs
+together).
 """
 
 import ast
@@ -16,7 +18,7 @@ WORKSPACE_SRC = Path(__file__).resolve().parents[2]
 
 def test_core_modules_never_import_rospy():
     offenders = []
-    adapters = ("nubot_tools/ros/", "coach4sim/ros/")
+    adapters = tuple(f"{pkg}/ros/" for pkg in ("nubot_tools", "coach4sim", "world_model", "nubot_control"))
     cores = sorted(p for p in WORKSPACE_SRC.glob("*/src/*/**/*.py")
                    if not any(a in p.as_posix() for a in adapters) and p.name != "node_io.py")
     assert cores, "no core modules found"
