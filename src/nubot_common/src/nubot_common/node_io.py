@@ -20,6 +20,12 @@ forever. A node stopped while it started (a test, Ctrl-C at once) hung until ros
 the signal is handled the moment the set-up is done, by rospy's handler as usual. So a set-up must not wait for
 others (a service, a first message): that waits after the block, where Ctrl-C can end it.
 
+``yield_cpu`` lowers a node's claim on the CPU against the other nodes'. Linux shares the CPU fairly between
+sessions first (autogroups), and roslaunch starts every node as a session of its own: on a machine too busy for a
+whole match each node gets an equal share, so the simulator, one node, kept real time while ten robots' nodes
+missed a tenth to a fifth of their cycles (a 5 vs 5 match on 2 busy cores). A simulator that yields instead slows
+sim time down, and every node on sim time keeps its rate: a loaded machine slows the match, it does not change it.
+
 ``timer`` runs a node's periodic cycle. Under sim time a ``rospy.Timer`` sleeps in ``rospy.sleep``, which wakes at
 every /clock message (rospy notifies every thread waiting for time to move): a 33 Hz cycle's thread woke 100 times
 a second in a match, for 20 such nodes. ``timer`` instead takes /clock from the node's own /clock subscription
@@ -29,12 +35,14 @@ time (a real robot) it is a ``rospy.Timer``.
 
 from __future__ import annotations
 
+import os
 import signal
 import threading
 import time
 import warnings
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from pathlib import Path
 from typing import Any
 
 import rospy
@@ -68,6 +76,31 @@ def publisher(topic: str, msg_type: type, latch: bool = False, queue_size: int |
     with warnings.catch_warnings():  # rospy warns about queue_size=None whether or not it is deliberate
         warnings.simplefilter("ignore", SyntaxWarning)
         return rospy.Publisher(topic, msg_type, queue_size=queue_size, latch=latch)
+
+
+def yield_cpu(nice: int) -> str:
+    """Give this process a lower claim on the CPU, ``nice`` from 0 (none: nothing changes) to 19 (see the module's
+    notes): its autogroup's nice when it leads its own session (as a node roslaunch started does) and the kernel
+    groups by session, else its threads' nice. Returns what it did, for the node's log; raises ValueError for a
+    ``nice`` out of range."""
+    if not 0 <= nice <= 19:
+        raise ValueError(f"a nice value from 0 to 19, not {nice}")
+    if nice == 0:
+        return "the default CPU priority"
+    autogroup = Path("/proc/self/autogroup")
+    enabled = Path("/proc/sys/kernel/sched_autogroup_enabled")
+    if os.getsid(0) == os.getpid() and autogroup.exists() and enabled.exists() and enabled.read_text().strip() == "1":
+        try:
+            autogroup.write_text(f"{nice}\n")
+            return f"its session's CPU share at nice {nice}"
+        except OSError:
+            pass  # (a kernel that refuses: the threads' nice below)
+    for task in os.listdir("/proc/self/task"):  # setpriority on Linux sets one thread
+        try:
+            os.setpriority(os.PRIO_PROCESS, int(task), nice)
+        except OSError:
+            continue  # a thread that ended meanwhile
+    return f"its threads at nice {nice}"
 
 
 class _ClockTimer:

@@ -226,12 +226,16 @@ class SimNodeParams:
     clock_rate: float = 1000.0  # /clock this often [Hz, sim time], on the first step at or after each due time (at
     # most once a step: 1000 Hz on 5 ms steps is every step)
     gui: bool = False  # no viewer exists yet: true only warns and runs headless
+    cpu_nice: int = 5  # the node's claim on the CPU against the other nodes' (nubot_common.node_io.yield_cpu), 0 to
+    # 19: on a machine too busy for the whole match, sim time slows instead of the robots missing control cycles
 
     def __post_init__(self) -> None:
         require_non_negative(self, "real_time_factor")
         if not self.real_time_factor <= REAL_TIME_FACTOR_MAX:
             raise ValueError(f"real_time_factor must be at most {REAL_TIME_FACTOR_MAX:g}, got {self.real_time_factor}")
         require_positive(self, "model_states_rate", "vision_rate", "clock_rate", "odometry_rate", "imu_rate")
+        if not 0 <= self.cpu_nice <= 19:
+            raise ValueError(f"cpu_nice must lie in [0, 19] (0: the default priority), got {self.cpu_nice}")
         if not 0 <= self.goalie_id <= MAX_ROBOTS:
             raise ValueError(f"goalie_id must lie in [0, {MAX_ROBOTS}] (0: no goalie), got {self.goalie_id}")
         try:

@@ -62,6 +62,10 @@ def test_physically_absurd_values_are_refused_with_their_bound():
         from_mapping(SimConfig, {"plugin": {"max_linear_speed": 100.0}})
     with pytest.raises(NubotCommonError, match="real_time_factor must be at most 100, got 1000"):
         from_mapping(SimNodeParams, {"real_time_factor": 1000.0})
+    for nice in (-5, 20):
+        with pytest.raises(NubotCommonError, match=rf"cpu_nice must lie in \[0, 19\] \(0: the default priority\), "
+                                                   rf"got {nice}"):
+            from_mapping(SimNodeParams, {"cpu_nice": nice})
     with pytest.raises(ValueError, match=r"gravity must be negative \(down\) and at least -50, got -1000000000000"):
         PhysicsParams(gravity=-1e12)
     with pytest.raises(ValueError, match="seed must not be negative, got -1"):
