@@ -81,8 +81,8 @@ def publisher(topic: str, msg_type: type, latch: bool = False, queue_size: int |
 def yield_cpu(nice: int) -> str:
     """Give this process a lower claim on the CPU, ``nice`` from 0 (none: nothing changes) to 19 (see the module's
     notes): its autogroup's nice when it leads its own session (as a node roslaunch started does) and the kernel
-    groups by session, else its threads' nice. Returns what it did, for the node's log; raises ValueError for a
-    ``nice`` out of range."""
+    groups by session, else its threads' nice (never lower than they were). Returns what it did, for the node's log;
+    raises ValueError for a ``nice`` out of range."""
     if not 0 <= nice <= 19:
         raise ValueError(f"a nice value from 0 to 19, not {nice}")
     if nice == 0:
@@ -95,9 +95,10 @@ def yield_cpu(nice: int) -> str:
             return f"its session's CPU share at nice {nice}"
         except OSError:
             pass  # (a kernel that refuses: the threads' nice below)
+    nice = max(nice, os.getpriority(os.PRIO_PROCESS, 0))  # a process started nicer stays so
     for task in os.listdir("/proc/self/task"):  # setpriority on Linux sets one thread
         try:
-            os.setpriority(os.PRIO_PROCESS, int(task), nice)
+            os.setpriority(os.PRIO_PROCESS, int(task), max(nice, os.getpriority(os.PRIO_PROCESS, int(task))))
         except OSError:
             continue  # a thread that ended meanwhile
     return f"its threads at nice {nice}"
