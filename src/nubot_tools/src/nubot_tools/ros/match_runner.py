@@ -187,10 +187,10 @@ class MatchRun:
 
     def __init__(self, master: RosMaster, configs: list, out: Path, processes: str = "one"):
         nodes = {"/sim_visual": True, "/match_recorder": True, "/referee": True}
+        parts = ("robot",) if processes == "one" else ("world_model", "nubot_control")
         for config in configs:
             nodes[f"/{config.prefix}/sim_interface"] = False
             for name in config.robot_names():
-                parts = ("robot",) if processes == "one" else ("world_model", "nubot_control")
                 nodes |= {f"/{name}/{part}": False for part in parts}
         self.master = master
         self.watch = NodeWatch(master.uri, nodes)
@@ -394,11 +394,11 @@ def play(argv: list[str] | None) -> int:
         # loses is the chunk it was filling: 256 KB, about 0.3 s of a 5 vs 5 match.
         recorder = master.launch("recorder", ["rosbag", "record", "-a", "-x", UNRECORDED, "--chunksize=256", "-O",
                                               str(bag), "__name:=match_recorder"])
-        tracker = ((["--tracker", args.tracker] if args.tracker else []) + ["--vision", str(vision)]
-                   + ["--processes", args.processes])
+        team_args = ((["--tracker", args.tracker] if args.tracker else []) + ["--vision", str(vision)]
+                     + ["--processes", args.processes])
         for team_file, config in zip(teams, configs):
             master.launch(f"team_{config.prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
-                                                    str(team_file), *tracker])
+                                                    str(team_file), *team_args])
         names = [n for c in configs for n in c.robot_names()]
         silent = wait_for_robots(names, timeout=180, stop=lambda: run.check(simulator=sim))
         if run.ended is None:
