@@ -215,3 +215,27 @@ def test_stop_also_ends_descendants_that_left_the_group(tmp_path):
     child.stop(timeout=1)
     time.sleep(0.2)
     assert not [pid for pid in escaped if processes._running(pid)], "a descendant outlived stop()"
+
+
+def test_stop_ends_remembered_descendants_whose_launcher_died(tmp_path):
+    """A node whose roslaunch was killed is re-parented: what remember() noted (from one process_table() for every
+    launch, as the match runner polls) is still ended by stop()."""
+    escapee = ("import os, time\nos.setsid()\nprint('ready', flush=True)\n"
+               "while True:\n    time.sleep(0.05)\n")
+    launcher = (f"import subprocess, sys, time\nsubprocess.Popen([sys.executable, '-c', {escapee!r}])\n"
+                f"while True:\n    time.sleep(0.05)\n")
+    first = Launched([sys.executable, "-c", launcher], dict(os.environ), tmp_path / "first.txt")
+    second = Launched([sys.executable, "-c", launcher], dict(os.environ), tmp_path / "second.txt")
+    wait_until(lambda: "ready" in first.log_text() and "ready" in second.log_text(), timeout=10.0)
+    table = processes.process_table()
+    escaped = processes._descendants(first.process.pid, table)
+    assert len(escaped) == 1 and escaped[0] not in processes._descendants(second.process.pid, table)
+    first.remember(table)
+    second.remember(table)
+    os.kill(first.process.pid, signal.SIGKILL)
+    first.process.wait(timeout=5)
+    assert processes._running(escaped[0]) and escaped[0] not in processes._descendants(first.process.pid)
+    first.stop(timeout=2)
+    second.stop(timeout=2)
+    time.sleep(0.2)
+    assert not processes._running(escaped[0]), "a remembered node outlived its dead launcher's stop()"

@@ -2,8 +2,9 @@
 
 Provides: ``free_port``, ``wait_until`` (poll a condition on the wall clock), ``RosMaster``
 (a ``roscore`` on a free port, never 11311, with the environment that points clients at
-it) and ``Launched`` (a ``roslaunch`` or
-``rosrun`` process in its own process group, stopped with everything it started).
+it), ``Launched`` (a ``roslaunch`` or ``rosrun`` process in its own process group, stopped with
+everything it started) and ``process_table`` (every process's /proc stat fields, read once for several
+look-ups).
 Logs go to ``log_dir`` so that a failing test can show them.
 """
 
@@ -55,11 +56,13 @@ class Launched:
         self._seen: set[tuple[int, str]] = set()  # (pid, start time) of every descendant remember() saw
         self._stopping: list[int] | None = None  # the processes interrupt() asked to stop
 
-    def remember(self) -> None:
+    def remember(self, table: dict[int, list[str]] | None = None) -> None:
         """Note the processes below this one now: ``stop`` ends them even if their parent died in between
-        (a node whose launcher was killed is re-parented and would otherwise outlive the match)."""
-        self._seen |= {(pid, start) for pid in _descendants(self.process.pid)
-                       if (start := _start_time(pid)) is not None}
+        (a node whose launcher was killed is re-parented and would otherwise outlive the match). ``table``:
+        a ``process_table()`` to read them from, read once for several launches."""
+        table = process_table() if table is None else table
+        self._seen |= {(pid, table[pid][19]) for pid in _descendants(self.process.pid, table)
+                       if len(table[pid]) > 19}
 
     def alive(self) -> bool:
         return self.process.poll() is None
@@ -111,11 +114,7 @@ class Launched:
 
     def _group_alive(self) -> bool:
         """True while a member of the process group still runs (zombies do not count)."""
-        for stat in Path("/proc").glob("[0-9]*/stat"):
-            fields = _proc_stat(int(stat.parent.name))
-            if fields is not None and fields[0] != "Z" and int(fields[2]) == self.process.pid:
-                return True
-        return False
+        return any(fields[0] != "Z" and int(fields[2]) == self.process.pid for fields in process_table().values())
 
 
 def wait_until(predicate: Callable[[], T], timeout: float, what: str, poll: float = 0.01) -> T:
@@ -132,9 +131,19 @@ def wait_until(predicate: Callable[[], T], timeout: float, what: str, poll: floa
 def _proc_stat(pid: int) -> list[str] | None:
     """The fields after the command name in /proc/<pid>/stat (state, ppid, pgrp, ...), or None."""
     try:
-        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        with open(f"/proc/{pid}/stat") as stat:
+            return stat.read().rsplit(")", 1)[1].split()
     except (OSError, IndexError):
         return None
+
+
+def process_table() -> dict[int, list[str]]:
+    """Every process's ``/proc/<pid>/stat`` fields after the command name, by pid: one pass over /proc."""
+    table = {}
+    for name in os.listdir("/proc"):
+        if name.isdigit() and (fields := _proc_stat(int(name))) is not None:
+            table[int(name)] = fields
+    return table
 
 
 def _start_time(pid: int) -> str | None:
@@ -148,14 +157,11 @@ def _running(pid: int) -> bool:
     return fields is not None and fields[0] != "Z"
 
 
-def _descendants(root: int) -> list[int]:
-    """Every live process below ``root`` (children, grandchildren, ...)."""
+def _descendants(root: int, table: dict[int, list[str]] | None = None) -> list[int]:
+    """Every live process below ``root`` (children, grandchildren, ...), from ``table`` or /proc now."""
     children: dict[int, list[int]] = {}
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            fields = _proc_stat(int(entry.name))
-            if fields is not None:
-                children.setdefault(int(fields[1]), []).append(int(entry.name))
+    for pid, fields in (process_table() if table is None else table).items():
+        children.setdefault(int(fields[1]), []).append(pid)
     found, todo = [], [root]
     while todo:
         for child in children.get(todo.pop(), []):

@@ -27,7 +27,7 @@ from datetime import datetime
 from pathlib import Path
 
 from nubot_tools.node_watch import NodeEvent, NodeWatch
-from nubot_tools.processes import Launched, RosMaster
+from nubot_tools.processes import Launched, RosMaster, process_table
 from nubot_tools.resources import ResourceLog
 from nubot_tools.workspace import TEAMS, WORKSPACE
 
@@ -216,8 +216,9 @@ class MatchRun:
         if time.monotonic() < self._next_poll:
             return self.ended is not None
         self._next_poll = time.monotonic() + self.POLL
+        table = process_table()  # one pass over /proc for every launch
         for child in self.master.children:
-            child.remember()
+            child.remember(table)
         events: list[NodeEvent] = self.watch.poll()
         for event in events:
             if event.change != "up":
