@@ -20,6 +20,10 @@ forever. A node stopped while it started (a test, Ctrl-C at once) hung until ros
 the signal is handled the moment the set-up is done, by rospy's handler as usual. So a set-up must not wait for
 others (a service, a first message): that waits after the block, where Ctrl-C can end it.
 
+``unread`` is a message type's class for a node that passes messages on without reading them (the team relay):
+rospy then neither deserializes what it receives nor serializes what it sends: a relay cycle of one team (five
+TeamMessages and five StrategyInfos in, two arrays of them out) took 596 us with the message classes, 14 us unread.
+
 ``yield_cpu`` lowers a node's claim on the CPU against the other nodes'. Linux shares the CPU fairly between
 sessions first (autogroups), and roslaunch starts every node as a session of its own: on a machine too busy for a
 whole match each node gets an equal share, so the simulator, one node, kept real time while ten robots' nodes
@@ -45,6 +49,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+import genpy
 import rospy
 from rosgraph_msgs.msg import Clock
 
@@ -76,6 +81,26 @@ def publisher(topic: str, msg_type: type, latch: bool = False, queue_size: int |
     with warnings.catch_warnings():  # rospy warns about queue_size=None whether or not it is deliberate
         warnings.simplefilter("ignore", SyntaxWarning)
         return rospy.Publisher(topic, msg_type, queue_size=queue_size, latch=latch)
+
+
+_UNREAD: dict[str, type[rospy.AnyMsg]] = {}
+
+
+def unread(msg_type: type[genpy.Message]) -> type[rospy.AnyMsg]:
+    """A message class for ``msg_type``'s topics whose messages stay serialized, in ``._buff`` (see the module's
+    notes): a subscriber of it connects only to publishers of ``msg_type`` (the same md5sum) and passes on what it
+    received without deserializing it; a publisher of ``msg_type`` sends such a message's bytes as they are."""
+    if msg_type._md5sum not in _UNREAD:
+        _UNREAD[msg_type._md5sum] = type(f"Unread{msg_type.__name__}", (rospy.AnyMsg,), {
+            "__slots__": (), "_type": msg_type._type, "_md5sum": msg_type._md5sum, "_full_text": msg_type._full_text})
+    return _UNREAD[msg_type._md5sum]
+
+
+def unread_message(msg_type: type[genpy.Message], data: bytes) -> rospy.AnyMsg:
+    """A ``msg_type`` message already serialized into ``data``, for a publisher of ``msg_type``."""
+    msg = unread(msg_type)()
+    msg._buff = data
+    return msg
 
 
 def yield_cpu(nice: int) -> str:
