@@ -10,7 +10,7 @@ import pytest
 from front_vision.camera_model import load_camera
 from front_vision.pipeline import FrontVisionParams
 from nubot_common.params import from_mapping, load_yaml
-from nubot_tools.launch_checks import launched
+from nubot_tools.launch_checks import launched, nested
 from omni_vision.colors import ColorTable
 
 SRC = Path(__file__).resolve().parents[3]
@@ -33,13 +33,6 @@ def test_the_node_gets_the_shipped_parameters_camera_and_table():
     assert node["robot"] == "nubot2" and node["remap"]["image"] == "/nubot2/front_camera/image_raw"
     load_camera(node["camera"])
     ColorTable.load(node["color_table"])
-    own: dict = {}
-    for key, value in node.items():
-        if key not in ("robot", "remap", "package", "type", "camera", "color_table"):
-            *path, leaf = key.split("/")
-            branch = own
-            for part in path:
-                branch = branch.setdefault(part, {})
-            branch[leaf] = value
+    own = nested(node, ("robot", "remap", "package", "type", "camera", "color_table"))
     shipped = load_yaml(FrontVisionParams, SRC / "front_vision" / "config" / "front_vision.yaml")
     assert from_mapping(FrontVisionParams, own) == shipped == FrontVisionParams(), "the YAML states the defaults"

@@ -7,7 +7,7 @@ import pytest
 
 from kinect_ball.pipeline import KinectBallParams
 from nubot_common.params import from_mapping, load_yaml
-from nubot_tools.launch_checks import launched
+from nubot_tools.launch_checks import launched, nested
 
 SRC = Path(__file__).resolve().parents[3]
 
@@ -29,12 +29,5 @@ def test_the_node_gets_the_shipped_parameters_and_its_pose_topic():
     node = nodes["/nubot1/kinect_ball"]
     assert node["robot"] == "nubot1" and node["remap"]["pose"] == "/nubot1/omnivision/OmniVisionInfo"
     shipped = load_yaml(KinectBallParams, SRC / "kinect_ball" / "config" / "kinect_ball.yaml")
-    own: dict = {}
-    for key, value in node.items():
-        if key not in ("robot", "remap", "package", "type"):
-            *path, leaf = key.split("/")
-            branch = own
-            for part in path:
-                branch = branch.setdefault(part, {})
-            branch[leaf] = value
+    own = nested(node, ("robot", "remap", "package", "type"))
     assert from_mapping(KinectBallParams, own) == shipped == KinectBallParams(), "the YAML states the defaults"

@@ -6,29 +6,17 @@ from pathlib import Path
 
 from nubot_common.params import from_mapping
 from nubot_control.params import ControlParams
-from nubot_tools.launch_checks import launched
+from nubot_tools.launch_checks import launched, nested
 from world_model.params import WorldModelParams
 
 LAUNCH = Path(__file__).resolve().parents[2] / "launch" / "robot.launch"
 NODE_KEYS = {"package", "type", "remap", "robot", "agent_id", "rate", "target_period", "flight_timeout"}
 
 
-def private(node: dict) -> dict:
-    """A node's private parameters as a nested mapping (``a/b`` -> {"a": {"b": ...}})."""
-    tree: dict = {}
-    for key, value in node.items():
-        *parents, leaf = key.split("/")
-        branch = tree
-        for parent in parents:
-            branch = branch.setdefault(parent, {})
-        branch[leaf] = value
-    return tree
-
-
 def test_by_default_a_robot_is_one_node_with_both_halves_parameters():
     nodes = launched(LAUNCH, "robot:=rival3", "goalie_id:=3", "tracker:=baseline")
     assert set(nodes) == {"/rival3/robot"}
-    node = private(nodes["/rival3/robot"])
+    node = nested(nodes["/rival3/robot"], ())
     assert (node["type"], node["robot"]) == ("robot_node", "rival3")
     model = node.pop("world_model")
     from_mapping(WorldModelParams, {k: v for k, v in model.items() if k not in NODE_KEYS}, "~world_model")

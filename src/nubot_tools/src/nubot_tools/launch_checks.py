@@ -2,8 +2,9 @@
 
 Provides ``run_refused`` (run a node with one bad private parameter: its exit status and output),
 ``refused_then_up`` (a launch with a typo in its YAML is refused; the same launch without it, on the
-same roscore, then comes up: nothing the refused one loaded stays behind) and ``launched`` (the nodes a launch
-file starts, parsed by roslaunch with nothing started).
+same roscore, then comes up: nothing the refused one loaded stays behind), ``launched`` (the nodes a launch
+file starts, parsed by roslaunch with nothing started) and ``nested`` (a launched node's parameters as the node
+reads them, for ``from_mapping``).
 """
 
 from __future__ import annotations
@@ -85,3 +86,18 @@ def launched(launch: Path, *args: str) -> dict[str, dict]:
         private = {k[len(name) + 1:]: p.value for k, p in config.params.items() if k.startswith(name + "/")}
         nodes[name] = {"package": node.package, "type": node.type, "remap": dict(node.remap_args), **private}
     return nodes
+
+
+def nested(node: dict, leave_out: Sequence[str] = ("package", "type", "remap")) -> dict:
+    """A ``launched`` node's private parameters as the nested mapping the node reads from ``~`` (``a/b: 1`` ->
+    ``{a: {b: 1}}``), without the keys in ``leave_out``."""
+    tree: dict = {}
+    for key, value in node.items():
+        if key in leave_out:
+            continue
+        *parents, leaf = key.split("/")
+        branch = tree
+        for parent in parents:
+            branch = branch.setdefault(parent, {})
+        branch[leaf] = value
+    return tree
