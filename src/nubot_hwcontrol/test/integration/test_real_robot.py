@@ -1,5 +1,5 @@
-"""real_robot.launch backend:=sim: one robot's whole software (omni_vision, world_model, nubot_control,
-nubot_hwcontrol, team_link) under the real robot's names, against the simulator through the simulated drive.
+"""real_robot.launch backend:=sim: one robot's whole software (omni_vision, world_model and nubot_control in one
+node, nubot_hwcontrol, team_link) under the real robot's names, against the simulator through the simulated drive.
 Its LCM team link multicasts, so each run happens inside a network namespace made here (root only)."""
 
 from __future__ import annotations
@@ -51,3 +51,5 @@ def test_one_robot_alone_scores_once_the_coach_starts_it_through_the_team_link(t
     assert result["goals"], f"no goal in {result['sim_seconds']:.0f} s of play"
     goal = result["goals"][0]
     assert goal["side"] == 1 and goal["last_touch"] == "nubot2"
+    assert "/robot" in result["cpu_cores"] and "/world_model" not in result["cpu_cores"], \
+        f"not the one-node layout: {sorted(result['cpu_cores'])}"
