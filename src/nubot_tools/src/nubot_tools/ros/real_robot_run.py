@@ -130,12 +130,17 @@ def run(args: argparse.Namespace, result: dict, logs: Path) -> None:
                 next_sample = time.monotonic() + 2.0
             time.sleep(0.03)
         elapsed = rospy.get_time() - start
+        sampler.sample(time.monotonic())  # a last look: a goal scored within seconds still gives every node a figure
         result["graph"] = drive_graph()
         result.update(sim_seconds=elapsed, goals=[{"side": g.side, "last_touch": g.last_touch,
                                                    "time": g.header.stamp.to_sec() - start} for g in goals],
                       ever_held=any(holding))
         cpu: dict[str, list[float]] = {}
-        for s in sampler.samples[1 * 10:]:  # skip the first samples: psutil's CPU needs two looks
+        looked: set[int] = set()
+        for s in sampler.samples:
+            if s.pid not in looked:  # psutil's CPU needs two looks at a process: the first gives nothing
+                looked.add(s.pid)
+                continue
             cpu.setdefault(s.process, []).append(s.cpu_cores)
         result["cpu_cores"] = {k: round(sum(v) / len(v), 3) for k, v in cpu.items() if v}
         result.update(loop_figures(statuses))
