@@ -9,6 +9,7 @@ goes on, the robot whose world model died stands still and drops out of its team
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import queue
@@ -36,13 +37,15 @@ class RunningMatch:
     """``run_match.py`` as a user starts it, with its output read line by line."""
 
     def __init__(self, tmp_path: Path, teams: list[str], half_seconds: float, report: bool = True,
-                 extra: tuple[str, ...] = ()):
+                 extra: tuple[str, ...] = (), sigint_ignored: bool = False):
         self.out = tmp_path / "matches"
         self.process = subprocess.Popen(
             [sys.executable, str(ROOT / "scripts" / "run_match.py"), "--half-seconds", str(half_seconds),
              "--halves", "1", "--out", str(self.out), "--viewer-port", "-1", *([] if report else ["--no-report"]),
              *teams, *extra],
-            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True,
+            # as a shell script's background job (`make match &`) starts: SIGINT ignored
+            preexec_fn=(lambda: signal.signal(signal.SIGINT, signal.SIG_IGN)) if sigint_ignored else None)
         self.lines: queue.Queue[str] = queue.Queue()
         self.text = ""
         threading.Thread(target=self._read, daemon=True).start()
@@ -83,8 +86,11 @@ class RunningMatch:
         try:
             self.process.wait(timeout=timeout)
         finally:
-            if self.process.poll() is None:
-                os.killpg(self.process.pid, signal.SIGKILL)
+            if self.process.poll() is None:  # a runner that hangs: it and every node of its match, which roslaunch
+                os.killpg(self.process.pid, signal.SIGKILL)  # put in sessions of their own, so no later test meets them
+                for entry in leftovers(self.master):
+                    with contextlib.suppress(ProcessLookupError):
+                        os.kill(int(entry.split(":", 1)[0]), signal.SIGKILL)
         time.sleep(0.5)
         while not self.lines.empty():
             self.text += self.lines.get()
@@ -237,6 +243,22 @@ def test_a_dead_simulator_referee_or_master_ends_the_match_at_once_with_a_comple
     assert run["ended"] == "cut short" and node in run["reason"]
     # up to the kill: the last clock ticks the simulator sent as it died may reach the runner and not the recorder
     assert bag_end(folder / "match.bag") >= before - 0.1, "the bag is closed and holds the match up to the kill"
+    assert leftovers(match.master) == [], "nothing of the match runs on"
+
+
+def test_an_interrupted_match_stops_every_node_and_closes_its_bag_even_started_as_a_background_job(
+        tmp_path, one_vs_one):
+    """``kill -INT`` (Ctrl-C) on a match a script started in the background, where SIGINT comes ignored."""
+    match = RunningMatch(tmp_path, one_vs_one, half_seconds=120, report=False, sigint_ignored=True)
+    match.wait_for("kickoff for")
+    before = match.sim_time()
+    match.process.send_signal(signal.SIGINT)
+    sent = time.monotonic()
+    status = match.finish(timeout=60)
+    assert status == 130 and "match interrupted: every node of the match is stopped" in match.text, match.text[-3000:]
+    assert time.monotonic() - sent < 30.0
+    # up to the stop: the recorder, stopped with every node, may not have written the last clock ticks it was sent
+    assert bag_end(match.folder() / "match.bag") >= before - 0.1, "the bag is closed and holds the match up to the stop"
     assert leftovers(match.master) == [], "nothing of the match runs on"
 
 

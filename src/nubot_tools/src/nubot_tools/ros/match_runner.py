@@ -313,6 +313,7 @@ def _interrupt(_signum: int, _frame: object) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGTERM, _interrupt)
+    signal.signal(signal.SIGINT, _interrupt)  # also when started with it ignored (a script's background job)
     try:
         return play(argv)
     except KeyboardInterrupt:
