@@ -33,6 +33,6 @@ def test_the_node_gets_the_shipped_parameters_camera_and_table():
     assert node["robot"] == "nubot2" and node["remap"]["image"] == "/nubot2/front_camera/image_raw"
     load_camera(node["camera"])
     ColorTable.load(node["color_table"])
-    own = nested(node, ("robot", "remap", "package", "type", "camera", "color_table"))
+    own = nested(node, ("robot", "camera", "color_table"))
     shipped = load_yaml(FrontVisionParams, SRC / "front_vision" / "config" / "front_vision.yaml")
     assert from_mapping(FrontVisionParams, own) == shipped == FrontVisionParams(), "the YAML states the defaults"

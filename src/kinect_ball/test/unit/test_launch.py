@@ -29,5 +29,5 @@ def test_the_node_gets_the_shipped_parameters_and_its_pose_topic():
     node = nodes["/nubot1/kinect_ball"]
     assert node["robot"] == "nubot1" and node["remap"]["pose"] == "/nubot1/omnivision/OmniVisionInfo"
     shipped = load_yaml(KinectBallParams, SRC / "kinect_ball" / "config" / "kinect_ball.yaml")
-    own = nested(node, ("robot", "remap", "package", "type"))
+    own = nested(node, ("robot",))
     assert from_mapping(KinectBallParams, own) == shipped == KinectBallParams(), "the YAML states the defaults"

@@ -16,8 +16,9 @@ NODE_KEYS = {"package", "type", "remap", "robot", "agent_id", "rate", "target_pe
 def test_by_default_a_robot_is_one_node_with_both_halves_parameters():
     nodes = launched(LAUNCH, "robot:=rival3", "goalie_id:=3", "tracker:=baseline")
     assert set(nodes) == {"/rival3/robot"}
-    node = nested(nodes["/rival3/robot"], ())
-    assert (node["type"], node["robot"]) == ("robot_node", "rival3")
+    assert nodes["/rival3/robot"]["type"] == "robot_node"
+    node = nested(nodes["/rival3/robot"])
+    assert node["robot"] == "rival3"
     model = node.pop("world_model")
     from_mapping(WorldModelParams, {k: v for k, v in model.items() if k not in NODE_KEYS}, "~world_model")
     control = from_mapping(ControlParams, {k: v for k, v in node.items() if k not in NODE_KEYS}, "~")

@@ -21,6 +21,7 @@ from nubot_tools.processes import RosMaster, wait_until
 
 RUN_TIMEOUT = 30.0  # [s] for a node that must refuse its parameters and exit
 UP_TIMEOUT = 60.0  # [s] for a launch to refuse or come up
+LAUNCH_KEYS = ("package", "type", "args", "remap")  # what ``launched`` tells of a node besides its parameters
 
 
 def run_refused(master: RosMaster, package: str, node: str, param: str, world: Path) -> tuple[int, str]:
@@ -73,8 +74,8 @@ def serves(service: str) -> Callable[[Any], bool]:
 
 
 def launched(launch: Path, *args: str) -> dict[str, dict]:
-    """The nodes a launch file starts with ``args``: namespaced name -> its package, type, remappings and private
-    parameters (parsed by roslaunch; nothing is started and no master is needed)."""
+    """The nodes a launch file starts with ``args``: namespaced name -> its package, type, command-line arguments,
+    remappings and private parameters (parsed by roslaunch; nothing is started and no master is needed)."""
     import roslaunch.config
     import roslaunch.xmlloader
 
@@ -84,16 +85,17 @@ def launched(launch: Path, *args: str) -> dict[str, dict]:
     for node in config.nodes:
         name = f"{node.namespace.rstrip('/')}/{node.name}"
         private = {k[len(name) + 1:]: p.value for k, p in config.params.items() if k.startswith(name + "/")}
-        nodes[name] = {"package": node.package, "type": node.type, "remap": dict(node.remap_args), **private}
+        nodes[name] = {"package": node.package, "type": node.type, "args": node.args, "remap": dict(node.remap_args),
+                       **private}
     return nodes
 
 
-def nested(node: dict, leave_out: Sequence[str] = ("package", "type", "remap")) -> dict:
+def nested(node: dict, leave_out: Sequence[str] = ()) -> dict:
     """A ``launched`` node's private parameters as the nested mapping the node reads from ``~`` (``a/b: 1`` ->
-    ``{a: {b: 1}}``), without the keys in ``leave_out``."""
+    ``{a: {b: 1}}``), without the launch's own keys (package, type, args, remap) and those in ``leave_out``."""
     tree: dict = {}
     for key, value in node.items():
-        if key in leave_out:
+        if key in LAUNCH_KEYS or key in leave_out:
             continue
         *parents, leaf = key.split("/")
         branch = tree

@@ -9,40 +9,30 @@ import pytest
 import yaml
 
 from nubot_common.params import load_yaml
+from nubot_tools import launch_checks
 from sim_visual.markers import WORLD_FRAME, MatchMarkersParams
 
 PACKAGE = Path(__file__).resolve().parents[2]
 
 
-def launched(launch: str, *args: str) -> dict[str, tuple[str, str, dict]]:
-    """The nodes a launch file starts with ``args``: name -> (package, type, its private parameters)."""
-    import roslaunch.config
-    import roslaunch.xmlloader
-
-    config = roslaunch.config.ROSLaunchConfig()
-    roslaunch.xmlloader.XmlLoader().load(str(PACKAGE / "launch" / launch), config, argv=["roslaunch", *args],
-                                         verbose=False)
-    nodes = {}
-    for node in config.nodes:
-        private = {k.split("/", 2)[2]: p.value for k, p in config.params.items() if k.startswith(f"/{node.name}/")}
-        nodes[node.name] = (node.package, node.type, {"args": node.args, **private})
-    return nodes
+def launched(launch: str, *args: str) -> dict[str, dict]:
+    return launch_checks.launched(PACKAGE / "launch" / launch, *args)
 
 
 def test_every_match_runs_match_markers_and_rviz_only_when_asked():
     nodes = launched("match.launch")
-    assert set(nodes) == {"sim_visual", "match_markers"}
-    package, kind, params = nodes["match_markers"]
-    assert (package, kind) == ("sim_visual", "match_markers")
-    assert MatchMarkersParams(params["tf_rate"], params["scene_rate"]) == load_yaml(
+    assert set(nodes) == {"/sim_visual", "/match_markers"}
+    markers = nodes["/match_markers"]
+    assert (markers["package"], markers["type"]) == ("sim_visual", "match_markers")
+    assert MatchMarkersParams(markers["tf_rate"], markers["scene_rate"]) == load_yaml(
         MatchMarkersParams, PACKAGE / "config" / "match_markers.yaml")
     nodes = launched("match.launch", "rviz:=true")
-    assert set(nodes) == {"sim_visual", "match_markers", "rviz"}, "the match's own match_markers feeds RViz"
-    assert nodes["rviz"][:2] == ("rviz", "rviz")
-    assert nodes["rviz"][2]["args"] == f"-d {PACKAGE / 'config' / 'match.rviz'}"
+    assert set(nodes) == {"/sim_visual", "/match_markers", "/rviz"}, "the match's own match_markers feeds RViz"
+    assert (nodes["/rviz"]["package"], nodes["/rviz"]["type"]) == ("rviz", "rviz")
+    assert nodes["/rviz"]["args"] == f"-d {PACKAGE / 'config' / 'match.rviz'}"
 
 
-@pytest.mark.parametrize(("args", "nodes"), [((), {"rviz"}), (("markers:=true",), {"rviz", "match_markers"})])
+@pytest.mark.parametrize(("args", "nodes"), [((), {"/rviz"}), (("markers:=true",), {"/rviz", "/match_markers"})])
 def test_match_rviz_starts_match_markers_for_a_bag_when_asked(args, nodes):
     assert set(launched("match_rviz.launch", *args)) == nodes
 
