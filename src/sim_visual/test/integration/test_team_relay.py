@@ -111,7 +111,7 @@ def test_the_relay_passes_every_members_latest_messages_on_unchanged(relay, ros_
         assert _unsequenced(heard["strategy"][-1].strategy_msgs) == [_strategy(3)]
         assert wrong.get_num_connections() == 0, "the relay connected to a publisher of another type"
 
-        del pubs[1]  # nubot1 falls silent: after max_age only nubot3 is relayed
+        pubs.pop(1).unregister()  # relay1 falls silent: after max_age only relay3 is relayed
         silent = time.monotonic()
         wait_until(lambda: latest_with(1), 10.0, "the silent member dropped", poll=0.05)
         assert time.monotonic() - silent >= MAX_AGE * 0.5
