@@ -61,8 +61,8 @@ class Launched:
         (a node whose launcher was killed is re-parented and would otherwise outlive the match). ``table``:
         a ``process_table()`` to read them from, read once for several launches."""
         table = process_table() if table is None else table
-        self._seen |= {(pid, table[pid][19]) for pid in _descendants(self.process.pid, table)
-                       if len(table[pid]) > 19}
+        self._seen |= {(pid, start) for pid in _descendants(self.process.pid, table)
+                       if (start := _start_time(pid, table)) is not None}
 
     def alive(self) -> bool:
         return self.process.poll() is None
@@ -146,9 +146,10 @@ def process_table() -> dict[int, list[str]]:
     return table
 
 
-def _start_time(pid: int) -> str | None:
-    """When ``pid`` started (clock ticks after boot): with the pid, it names one process even if pids are reused."""
-    fields = _proc_stat(pid)
+def _start_time(pid: int, table: dict[int, list[str]] | None = None) -> str | None:
+    """When ``pid`` started (clock ticks after boot): with the pid, it names one process even if pids are reused.
+    From ``table`` (a ``process_table()``) if given, else from /proc now."""
+    fields = _proc_stat(pid) if table is None else table.get(pid)
     return fields[19] if fields is not None and len(fields) > 19 else None
 
 
