@@ -93,6 +93,21 @@ def stamp(t: float) -> genpy.Time:
     return genpy.Time.from_sec(t) if math.isfinite(t) and t > 0.0 else genpy.Time()
 
 
+def point2d(x: float, y: float) -> Point2d:
+    """A Point2d [m]. Messages are built field by field here: genpy's constructor with arguments costs several
+    times as much, and a match builds thousands of messages a second."""
+    p = Point2d()
+    p.x, p.y = x, y
+    return p
+
+
+def ppoint(angle: float, radius: float) -> PPoint:
+    """A PPoint (angle [rad], radius [m])."""
+    p = PPoint()
+    p.angle, p.radius = angle, radius
+    return p
+
+
 def seconds(time: genpy.Time) -> float:
     return float(time.to_sec())
 
@@ -122,14 +137,14 @@ def robot_info_msg(report: RobotReport | None, agent_id: int, valid: bool, t: fl
     r = report
     info.targetNum1, info.targetNum2, info.targetNum3, info.targetNum4 = r.target_nums
     info.staticpassNum, info.staticcatchNum = r.static_pass, r.static_catch
-    info.pos = Point2d(r.pose.x, r.pose.y)
+    info.pos.x, info.pos.y = r.pose.x, r.pose.y  # into the fields' own messages, made with ``info``
     info.heading.theta = r.pose.theta
     info.vrot = r.w
-    info.vtrans = Point2d(r.vx, r.vy)
+    info.vtrans.x, info.vtrans.y = r.vx, r.vy
     info.iskick, info.isstuck, info.isdribble = r.kicking, r.stuck, r.holding
     info.current_role = int(r.role)
     info.role_time = r.role_time
-    info.target = Point2d(*r.target)
+    info.target.x, info.target.y = r.target
     return info
 
 
@@ -148,9 +163,10 @@ def ball_info_msg(percept: BallPercept | None, source: BallSource, observer: Pos
         return ball
     ball.header.stamp = stamp(percept.stamp)
     ball.ballinfostate = int(source)
-    ball.pos, ball.velocity = Point2d(percept.x, percept.y), Point2d(percept.vx, percept.vy)
+    ball.pos.x, ball.pos.y, ball.velocity.x, ball.velocity.y = percept.x, percept.y, percept.vx, percept.vy
     if observer is not None:
-        ball.real_pos = PPoint(observer.bearing_to(percept.x, percept.y), observer.distance_to(percept.x, percept.y))
+        ball.real_pos.angle = observer.bearing_to(percept.x, percept.y)
+        ball.real_pos.radius = observer.distance_to(percept.x, percept.y)
     ball.pos_known, ball.velocity_known = True, percept.velocity_known
     return ball
 
@@ -207,9 +223,9 @@ def obstacles_msg(points: Sequence[Point], observer: Pose2D | None, t: float) ->
     """ObstaclesInfo of ``points`` (team frame [m]), with polar positions from ``observer`` when given."""
     msg = ObstaclesInfo()
     msg.header.stamp = stamp(t)
-    msg.pos = [Point2d(x, y) for x, y in points]
+    msg.pos = [point2d(x, y) for x, y in points]
     if observer is not None:
-        msg.polar_pos = [PPoint(observer.bearing_to(x, y), observer.distance_to(x, y)) for x, y in points]
+        msg.polar_pos = [ppoint(observer.bearing_to(x, y), observer.distance_to(x, y)) for x, y in points]
     return msg
 
 
@@ -264,11 +280,12 @@ def coach_fields(msg: CoachInfo) -> tuple[int, int, CoachExtras]:
 
 
 def coach_info_msg(mode: int, previous: int, t: float, extras: CoachExtras | None = None) -> CoachInfo:
-    msg = CoachInfo(MatchMode=int(mode), MatchType=int(previous))
+    msg = CoachInfo()
+    msg.MatchMode, msg.MatchType = int(mode), int(previous)
     msg.header.stamp = stamp(t)
     e = extras or CoachExtras()
     msg.TestMode = e.test_mode
-    msg.pointA, msg.pointB = Point2d(*e.point_a), Point2d(*e.point_b)
+    (msg.pointA.x, msg.pointA.y), (msg.pointB.x, msg.pointB.y) = e.point_a, e.point_b
     msg.angleA, msg.angleB, msg.idA, msg.idB, msg.kickforce = e.angle_a, e.angle_b, e.id_a, e.id_b, e.kickforce
     return msg
 
@@ -292,8 +309,12 @@ def pass_command(msg: PassCommands) -> PassCommand | None:
 def pass_commands_msg(cmd: PassCommand | None) -> PassCommands:
     if cmd is None:
         return PassCommands()  # is_valid false
-    return PassCommands(max(cmd.pass_id, 0), max(cmd.catch_id, 0), Point2d(*cmd.pass_pt), Point2d(*cmd.catch_pt),
-                        cmd.is_passout, cmd.is_dynamic_pass, cmd.is_static_pass, cmd.is_valid)
+    msg = PassCommands()
+    msg.pass_id, msg.catch_id = max(cmd.pass_id, 0), max(cmd.catch_id, 0)
+    (msg.pass_pt.x, msg.pass_pt.y), (msg.catch_pt.x, msg.catch_pt.y) = cmd.pass_pt, cmd.catch_pt
+    msg.is_passout, msg.is_dynamic_pass, msg.is_static_pass = cmd.is_passout, cmd.is_dynamic_pass, cmd.is_static_pass
+    msg.is_valid = cmd.is_valid
+    return msg
 
 
 def strategy_report(msg: StrategyInfo, target: Point = (0.0, 0.0)) -> StrategyReport:
@@ -319,7 +340,8 @@ def strategy_info_msg(report: StrategyReport) -> StrategyInfo:
 
 def target_info_msg(report: StrategyReport) -> TargetInfo:
     """Where the robot heads: ``target[0]`` (team frame [m])."""
-    msg = TargetInfo(target=[Point2d(*report.target)])
+    msg = TargetInfo()
+    msg.target = [point2d(*report.target)]
     msg.header.stamp = stamp(report.stamp)
     return msg
 
@@ -330,7 +352,8 @@ def target_of(msg: TargetInfo) -> Point | None:
 
 def planned_path_msg(points: Sequence[Point], t: float, team: str) -> PlannedPath:
     """The path a robot of team ``team`` follows (team frame [m]; no points: none), stamped ``t`` [s]."""
-    msg = PlannedPath(points=[Point2d(x, y) for x, y in points])
+    msg = PlannedPath()
+    msg.points = [point2d(x, y) for x, y in points]
     msg.header.stamp, msg.header.frame_id = stamp(t), team
     return msg
 
@@ -344,8 +367,8 @@ def fused_ball_msg(ball: FusedBall) -> BallInfo:
     msg = BallInfo()
     msg.header.stamp = stamp(ball.stamp)
     msg.ballinfostate = int(ball.source)
-    msg.pos, msg.velocity = Point2d(ball.x, ball.y), Point2d(ball.vx, ball.vy)
-    msg.real_pos = PPoint(ball.angle, ball.radius)
+    msg.pos.x, msg.pos.y, msg.velocity.x, msg.velocity.y = ball.x, ball.y, ball.vx, ball.vy
+    msg.real_pos.angle, msg.real_pos.radius = ball.angle, ball.radius
     msg.pos_known, msg.velocity_known = ball.known, ball.velocity_known
     return msg
 
