@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import genpy
 
-from nubot_common.conversions import char_value
+from nubot_common.conversions import char_value, point2d, ppoint
 from nubot_common.msg import (
     Angle,
     BallInfo,
@@ -59,7 +59,7 @@ def _point(p: Point2d) -> point2d_t:
 
 
 def _point_msg(p: point2d_t) -> Point2d:
-    return Point2d(p.x, p.y)
+    return point2d(p.x, p.y)
 
 
 def _polar(p: PPoint) -> ppoint_t:
@@ -69,7 +69,7 @@ def _polar(p: PPoint) -> ppoint_t:
 
 
 def _polar_msg(p: ppoint_t) -> PPoint:
-    return PPoint(p.angle, p.radius)
+    return ppoint(p.angle, p.radius)
 
 
 # --- team packet ---------------------------------------------------------------------------------------

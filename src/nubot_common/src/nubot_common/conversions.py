@@ -443,7 +443,8 @@ def ball_flight_msg(flight: BallFlight | None, t: float) -> BallFlightInfo:
     msg.ball = ball_info3d_msg(flight.ball, t)
     if flight.touchdown is not None:
         x, y, when = flight.touchdown
-        msg.in_air, msg.touchdown, msg.touchdown_time = True, Point2d(x, y), when
+        msg.in_air, msg.touchdown_time = True, when
+        msg.touchdown.x, msg.touchdown.y = x, y
     return msg
 
 
