@@ -24,6 +24,14 @@ def test_quick_run_writes_positive_figures(tmp_path):
         assert case["agent_cycles"] == pytest.approx(10 * 33 * 10, rel=0.1)  # 10 robots at 33 Hz for 10 s
         assert case["agent_cycle_in_physics_steps"] == pytest.approx(
             case["us_per_agent_cycle"] / case["us_per_physics_step"], rel=0.02)
+        # Without the robots' software the match runs faster, and its time per cycle is what the budget has to fit.
+        share = case["wall_share"]
+        rest = case["wall_seconds"] * (1.0 - share["agents"] - share["world_model_vision"])
+        assert case["sim_seconds_per_wall_second_without_agents"] > case["sim_seconds_per_wall_second"]
+        assert case["sim_seconds_per_wall_second_without_agents"] == pytest.approx(case["sim_seconds"] / rest,
+                                                                                   rel=0.02)
+        budget = 1e6 * (case["sim_seconds"] / case["target_sim_seconds_per_wall_second"] - rest) / case["agent_cycles"]
+        assert case["us_per_agent_cycle_budget_at_target"] == pytest.approx(budget, abs=2.0)
     physics = data["physics"]
     assert physics["simulator"]["steps_per_second"] > 0 and physics["simulator"]["robots"] == 10
     assert physics["simulator"]["samples_with_robot_contact_share"] > 0  # the robots do meet

@@ -11,8 +11,10 @@ line); a table on stdout. Parts (``--only``, comma-separated; default all):
   (``--cpu``), per tracker (mpc, baseline): sim seconds per wall second over ``measure`` s of sim time
   after a ``warmup`` [s]; agent cycles per second and the time in ``RobotAgent.step`` per cycle [us], in
   ``Simulator.step`` per physics step [us] (of it in ``PhysicsWorld.step``, the ODE part), in sensing
-  and the world models' vision updates; the rest is the engine (schedule, relay, referee).
-  Target: 50x real time.
+  and the world models' vision updates; the rest is the engine (schedule, relay, referee). What the target
+  leaves the robots: the speed if their software (cycles and vision updates) cost nothing, and the time an
+  agent cycle may take at the target beside everything else as measured (negative: the rest alone is too
+  slow); the plot marks the first on each lockstep bar. Target: 50x real time.
 - ``physics``: a ``Simulator`` with the 10 robots (the match's start poses) and the ball, robots driven
   to places on a ring of radius ``RING`` about a point wandering near the centre spot, with varying
   velocity commands at 33 Hz (so neighbours jostle and push the ball): physics steps per second on one
@@ -198,6 +200,7 @@ def lockstep_case(tracker: str, d: Durations, cpu: int | None, listeners: Sequen
     agent_calls, agent_seconds = sum(t.calls for t in cycles), sum(t.seconds for t in cycles)
     vision_calls, vision_seconds = sum(t.calls for t in vision), sum(t.seconds for t in vision)
     engine = clock.wall - physics.seconds - sensing.seconds - agent_seconds - vision_seconds
+    rest = clock.wall - agent_seconds - vision_seconds  # all but the robots' software: simulator, referee, engine
     return {
         "tracker": tracker, "robots": len(match.agents), "seed": seed, "warmup_sim_seconds": d.warmup,
         "sim_seconds": _r(simulated, 3), "wall_seconds": _r(clock.wall, 3), "cpu_seconds": _r(clock.cpu, 3),
@@ -219,6 +222,12 @@ def lockstep_case(tracker: str, d: Durations, cpu: int | None, listeners: Sequen
                        "world_model_vision": _r(vision_seconds / clock.wall, 3),
                        "engine_referee_relay_listeners": _r(engine / clock.wall, 3)},
         "target_sim_seconds_per_wall_second": TARGET_REAL_TIME_FACTOR,
+        # What the target leaves the robots' software (its cycles and its vision updates): the speed if it cost
+        # nothing, and the time one agent cycle may take at the target beside the rest as measured (negative: the
+        # simulator, sensing, referee and engine alone are slower than the target).
+        "sim_seconds_per_wall_second_without_agents": _r(simulated / rest) if rest > 0 else None,
+        "us_per_agent_cycle_budget_at_target": _r(1e6 * (simulated / TARGET_REAL_TIME_FACTOR - rest) / agent_calls, 1)
+        if agent_calls else None,
     }
 
 
@@ -533,8 +542,14 @@ def plot(results: dict, path: Path) -> None:
         ax.annotate(f"{value:.1f}x", (bar.get_x() + bar.get_width() / 2, value), ha="center", va="bottom",
                     fontsize=8)
     ax.axhline(TARGET_REAL_TIME_FACTOR, color="tab:red", ls="--", label=f"target {TARGET_REAL_TIME_FACTOR:.0f}x")
+    ceilings = [(bar, case["sim_seconds_per_wall_second_without_agents"])
+                for bar, case in zip(bars, results.get("lockstep", {}).values())]  # the lockstep bars come first
+    for i, (bar, ceiling) in enumerate(c for c in ceilings if c[1]):
+        ax.hlines(ceiling, bar.get_x(), bar.get_x() + bar.get_width(), colors="black", linestyles=":",
+                  label="lockstep if the robots' software cost nothing" if i == 0 else None)
+        ax.annotate(f"{ceiling:.0f}x", (bar.get_x() + bar.get_width(), ceiling), ha="left", va="center", fontsize=7)
     ax.set_yscale("log")
-    values = [v for _, v in rows if v > 0] or [1.0]
+    values = [v for _, v in rows if v > 0] + [c for _, c in ceilings if c] or [1.0]
     ax.set_ylim(0.5 * min(*values, 1.0), 2.0 * max(*values, TARGET_REAL_TIME_FACTOR))
     ax.set_ylabel("simulated seconds per wall second")
     load = results["machine"]["load_average_start"][0]
@@ -554,6 +569,9 @@ def table(results: dict) -> str:
                      f"{case['us_per_agent_cycle']} us/agent cycle, {case['us_per_physics_step']} us/physics step "
                      f"(an agent cycle costs {case['agent_cycle_in_physics_steps']} physics steps), "
                      f"cpu share {case['cpu_share']}")
+        lines.append(f"  with robots that cost nothing {case['sim_seconds_per_wall_second_without_agents']}x; at "
+                     f"{TARGET_REAL_TIME_FACTOR:.0f}x the rest leaves {case['us_per_agent_cycle_budget_at_target']} "
+                     f"us per agent cycle")
     physics = results.get("physics", {})
     if physics:
         lines.append(f"physics: Simulator {physics['simulator']['steps_per_second']:.0f} steps/s (target "
