@@ -26,7 +26,8 @@ def test_quick_run_writes_positive_figures(tmp_path):
             case["us_per_agent_cycle"] / case["us_per_physics_step"], rel=0.02)
         # Without the robots' software the match runs faster, and its time per cycle is what the budget has to fit.
         share = case["wall_share"]
-        rest = case["wall_seconds"] * (1.0 - share["agents"] - share["world_model_vision"])
+        rest = case["wall_seconds"] * (1.0 - share["agents"] - share["world_model_vision"]
+                                       - share["world_model_other_inputs"])
         assert case["sim_seconds_per_wall_second_without_agents"] > case["sim_seconds_per_wall_second"]
         assert case["sim_seconds_per_wall_second_without_agents"] == pytest.approx(case["sim_seconds"] / rest,
                                                                                    rel=0.02)

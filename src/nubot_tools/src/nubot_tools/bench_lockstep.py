@@ -11,10 +11,11 @@ line); a table on stdout. Parts (``--only``, comma-separated; default all):
   (``--cpu``), per tracker (mpc, baseline): sim seconds per wall second over ``measure`` s of sim time
   after a ``warmup`` [s]; agent cycles per second and the time in ``RobotAgent.step`` per cycle [us], in
   ``Simulator.step`` per physics step [us] (of it in ``PhysicsWorld.step``, the ODE part), in sensing
-  and the world models' vision updates; the rest is the engine (schedule, relay, referee). What the target
-  leaves the robots: the speed if their software (cycles and vision updates) cost nothing, and the time an
-  agent cycle may take at the target beside everything else as measured (negative: the rest alone is too
-  slow); the plot marks the first on each lockstep bar. Target: 50x real time.
+  and the world models' vision updates and other inputs (3-D ball, teammates, coach); the rest is the engine
+  (schedule, relay, referee). What the target leaves the robots: the speed if their software (cycles and
+  inputs) cost nothing, and the time an agent cycle may take at the target beside everything else as
+  measured (negative: the rest alone is too slow); the plot marks the first on each lockstep bar.
+  Target: 50x real time.
 - ``physics``: a ``Simulator`` with the 10 robots (the match's start poses) and the ball, robots driven
   to places on a ring of radius ``RING`` about a point wandering near the centre spot, with varying
   velocity commands at 33 Hz (so neighbours jostle and push the ball): physics steps per second on one
@@ -187,10 +188,13 @@ def lockstep_case(tracker: str, d: Durations, cpu: int | None, listeners: Sequen
     sensing = timed(sim, "observe")
     cycles = [timed(agent, "step") for agent in match.agents.values()]
     vision = [timed(agent, "on_vision") for agent in match.agents.values()]
+    # The robots' other inputs: the 3-D ball, what teammates share and the coach's commands.
+    inputs = [timed(agent, method) for agent in match.agents.values()
+              for method in ("on_ball3d", "on_teammate", "on_teammate_strategy", "on_coach")]
     clock = Clock()
     with pinned(cpu):
         match.run(until=d.warmup)
-        for timer in (physics, ode_part, sensing, *cycles, *vision):
+        for timer in (physics, ode_part, sensing, *cycles, *vision, *inputs):
             timer.clear()
         start = match.time
         with clock.measure():
@@ -199,8 +203,10 @@ def lockstep_case(tracker: str, d: Durations, cpu: int | None, listeners: Sequen
     match.close()
     agent_calls, agent_seconds = sum(t.calls for t in cycles), sum(t.seconds for t in cycles)
     vision_calls, vision_seconds = sum(t.calls for t in vision), sum(t.seconds for t in vision)
-    engine = clock.wall - physics.seconds - sensing.seconds - agent_seconds - vision_seconds
-    rest = clock.wall - agent_seconds - vision_seconds  # all but the robots' software: simulator, referee, engine
+    input_seconds = sum(t.seconds for t in inputs)
+    robots = agent_seconds + vision_seconds + input_seconds  # the robots' software, all of it
+    engine = clock.wall - physics.seconds - sensing.seconds - robots
+    rest = clock.wall - robots  # the simulator, sensing, referee, relay and engine
     return {
         "tracker": tracker, "robots": len(match.agents), "seed": seed, "warmup_sim_seconds": d.warmup,
         "sim_seconds": _r(simulated, 3), "wall_seconds": _r(clock.wall, 3), "cpu_seconds": _r(clock.cpu, 3),
@@ -220,9 +226,10 @@ def lockstep_case(tracker: str, d: Durations, cpu: int | None, listeners: Sequen
         "wall_share": {"agents": _r(agent_seconds / clock.wall, 3), "physics": _r(physics.seconds / clock.wall, 3),
                        "sensing": _r(sensing.seconds / clock.wall, 3),
                        "world_model_vision": _r(vision_seconds / clock.wall, 3),
+                       "world_model_other_inputs": _r(input_seconds / clock.wall, 3),
                        "engine_referee_relay_listeners": _r(engine / clock.wall, 3)},
         "target_sim_seconds_per_wall_second": TARGET_REAL_TIME_FACTOR,
-        # What the target leaves the robots' software (its cycles and its vision updates): the speed if it cost
+        # What the target leaves the robots' software (its cycles and all its inputs): the speed if it cost
         # nothing, and the time one agent cycle may take at the target beside the rest as measured (negative: the
         # simulator, sensing, referee and engine alone are slower than the target).
         "sim_seconds_per_wall_second_without_agents": _r(simulated / rest) if rest > 0 else None,
