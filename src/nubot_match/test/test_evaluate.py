@@ -13,7 +13,7 @@ import pytest
 import yaml
 
 from nubot_match.evaluate import jobs_for
-from nubot_match.statistics import MatchResult, mean_interval, share_interval, summarise, verdict
+from nubot_match.statistics import MatchResult, mean_interval, share_interval, summarise, table_text, verdict
 from nubot_tools.processes import wait_until
 
 WORKSPACE = Path(__file__).resolve().parents[3]
@@ -36,13 +36,10 @@ def evaluate(*args, timeout=300):
                           timeout=timeout)
 
 
-def astuple_tail(r):
-    return (r.home_attacks, r.home, r.away, r.sim_seconds, r.wall_seconds, r.rss_mib)
-
-
-def result(index, home_goals, away_goals):
+def result(index, home_goals, away_goals, pair=-1, match=None):
     figures = dict.fromkeys(("passes_completed", "possession", "shots", "collisions"), 0.0)
-    return MatchResult(index, index, 1, {**figures, "goals": home_goals}, {**figures, "goals": away_goals}, 1, 1, 1)
+    return MatchResult(index, index, 1, {**figures, "goals": home_goals}, {**figures, "goals": away_goals}, 1, 1, 1,
+                       pair=pair, match=match or {})
 
 
 def test_the_statistics_give_intervals_and_a_verdict_that_says_who_is_better():
@@ -62,19 +59,40 @@ def test_the_statistics_give_intervals_and_a_verdict_that_says_who_is_better():
     assert share.mean == 0.0 and share.low == 0.0 and 0.2 < share.high < 0.35  # Wilson, not 0 +- 0
 
 
-def test_the_two_matches_of_a_seed_are_one_unit_of_the_intervals():
-    """Mirror pairs (a team against its twin, each way round) give +d and -d: two seeds are two units, not four."""
-    pairs = [result(0, 3, 0), result(0, 0, 3), result(1, 1, 0), result(1, 0, 1)]
-    pairs = [MatchResult(r.index, seed, *astuple_tail(r)) for r, seed in zip(pairs, (0, 0, 1, 1))]
+def test_the_two_matches_of_a_pair_are_one_unit_of_the_goal_difference():
+    """Pairs each way round that give +d and -d: two pairs are two units of the goal difference, not four."""
+    pairs = [result(0, 3, 0, 0), result(1, 0, 3, 0), result(2, 1, 0, 1), result(3, 0, 1, 1)]
     d = summarise(pairs).goal_difference
-    assert (d.mean, d.low, d.high) == (0.0, 0.0, 0.0)  # each seed's pair averages to 0 exactly
+    assert (d.mean, d.low, d.high) == (0.0, 0.0, 0.0)  # each pair averages to 0 exactly
     alone = summarise([result(i, g, a) for i, (g, a) in enumerate([(3, 0), (0, 3), (1, 0), (0, 1)])])
     assert alone.goal_difference.high > 1.0  # as four independent matches the interval is wide
 
 
-def test_seeds_repeat_in_pairs_with_the_sides_swapped():
+def test_every_match_has_a_seed_of_its_own_and_pairs_swap_the_sides():
     jobs = jobs_for("a.yaml", "b.yaml", 5, 60.0, seed=7)
-    assert [(j.seed, j.swapped) for j in jobs] == [(7, False), (7, True), (8, False), (8, True), (9, False)]
+    assert [(j.seed, j.swapped) for j in jobs] == [(7, False), (8, True), (9, False), (10, True), (11, False)]
+
+
+def test_the_yardsticks_scale_to_two_halves_of_15_min_and_say_whether_they_are_met():
+    # two matches of 2 x 5 min of play: 4 and 2 goals are 12 and 6 per 2 x 15 min; 2 collisions a minute
+    counts = [{"running_s": 600.0, "stopped_s": 200.0, "goals": g, "shots": 20.0, "shots_scored": g,
+               "passes_tried": 10.0, "passes_completed": 8.0, "collisions": 20.0, "fouls_pushing": 1.0,
+               "goals_turnover": g} for g in (4.0, 2.0)]
+    s = summarise([result(0, 2, 2, match=counts[0]), result(1, 1, 1, match=counts[1])])
+    assert s.yardsticks["goals"].mean == pytest.approx(9.0)
+    assert s.yardsticks["shots_per_team_half"].mean == pytest.approx(15.0)
+    assert s.yardsticks["scoring_share"].mean == pytest.approx(0.15)
+    assert s.yardsticks["collisions_per_minute"].mean == pytest.approx(2.0)
+    assert s.yardsticks["pass_completion"].mean == pytest.approx(0.8)
+    assert s.yardsticks["running_share"].mean == pytest.approx(0.75)
+    assert s.fouls["pushing"].mean == pytest.approx(3.0) and s.causes["turnover"].mean == pytest.approx(9.0)
+    table = table_text(s)
+    assert "| goals per match (2 x 15 min of play) | 9.00 [" in table and "| 3 to 10 | yes |" in table
+    assert "| robot-robot collisions per running minute | 2.00 (CI unknown" not in table  # equal: a zero-width CI
+    assert "| fouls: pushing | 3.00 " in table and "| goals from: turnover | 9.00 [" in table
+    crowded = summarise([result(0, 9, 9, match={**counts[0], "collisions": 600.0})])
+    assert "| robot-robot collisions per running minute | 60.00 (CI unknown: one unit) | at most 5 | NO |" in \
+        table_text(crowded)
 
 
 def test_an_evaluation_on_two_cores_prints_its_table_and_verdict_and_keeps_its_files(tmp_path):
@@ -84,11 +102,11 @@ def test_an_evaluation_on_two_cores_prints_its_table_and_verdict_and_keeps_its_f
                     "--jobs", 2, "--out", out)
     assert done.returncode == 0, done.stderr[-2000:]
     assert "| goals |" in done.stdout and "95 % CI" in done.stdout
-    assert "NUBOT - RIVAL: " in done.stdout and "play at least 4 matches (two seeds) for a verdict" in done.stdout
+    assert "NUBOT - RIVAL: " in done.stdout and "play at least 4 matches (two pairs) for a verdict" in done.stdout
     assert "match/s" in done.stderr or "s/match" in done.stderr  # the progress bar with its rate and ETA
     data = json.loads((out / "results.json").read_text())
     assert data["finished"] == 2 and not data["interrupted"] and data["failures"] == []
-    assert {m["seed"] for m in data["matches"]} == {0}
+    assert sorted(m["seed"] for m in data["matches"]) == [0, 1] and {m["pair"] for m in data["matches"]} == {0}
     assert {m["home_attacks"] for m in data["matches"]} == {1, -1}  # the sides were swapped once
     assert data["throughput"]["sim_seconds_per_wall_second"] > 0
     assert (out / "table.md").read_text().count("|") > 20 and (out / "goal_difference.png").stat().st_size > 1000

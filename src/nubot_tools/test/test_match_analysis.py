@@ -45,7 +45,8 @@ def test_possession_is_running_time_per_team_of_the_last_toucher():
 @pytest.mark.parametrize(("velocity", "xy", "kind", "side", "shot"), [
     ((6.0, 0.0, 0.0), (5.0, 0.0), -1, 1, True),  # straight at the goal
     ((6.0, 0.78, 0.0), (3.0, 0.0), -1, 1, True),  # y = 0.78 at the line: between the posts
-    ((6.0, 1.25, 0.0), (3.0, 0.0), -1, 1, False),  # y = 1.25 at the line: just wide of the post at 1.2
+    ((6.0, 1.25, 0.0), (3.0, 0.0), -1, 1, True),  # y = 1.25 at the line: just wide of the post at 1.2, a shot wide
+    ((6.0, 2.25, 0.0), (3.0, 0.0), -1, 1, False),  # y = 2.25 at the line: more than 1 m outside the post
     ((-6.0, 0.0, 0.0), (5.0, 0.0), -1, 1, False),  # away from the attacked goal
     ((-6.0, 0.5, 0.0), (-5.0, 0.0), -1, -1, True),  # the other team's attack
     ((6.0, 0.0, 0.0), (9.5, 0.0), -1, 1, False),  # ball already behind the goal line

@@ -115,7 +115,7 @@ def test_separation_margin_below_the_contact_tolerance_is_refused():
 def test_interval_index_matches_inside():
     intervals = [(1.0, 5.0), (7.0, 10.0)]
     times = np.array([0.0, 1.0, 4.99, 5.0, 6.0, 7.0, 9.0, 10.0, 11.0])
-    assert ma.interval_index(times, intervals).tolist() == [ma._inside(t, intervals) for t in times]
+    assert ma.interval_index(times, intervals).tolist() == [ma.inside(t, intervals) for t in times]
     assert ma.interval_index(times, intervals).tolist() == [-1, 0, 0, -1, -1, 1, 1, 1, -1]
     assert ma.interval_index(times, []).tolist() == [-1] * len(times)
 

@@ -111,6 +111,17 @@ def world_description(world):
         robot=part("RobotBody", world.robot), ball_name=world.ball_name)
 
 
+def strategy_info(t, robot):
+    point = T["nubot_common/msg/Point2d"]
+    pass_cmd = T["nubot_common/msg/PassCommands"](
+        pass_id=0, catch_id=0, pass_pt=point(x=0.0, y=0.0), catch_pt=point(x=0.0, y=0.0), is_passout=False,
+        is_dynamic_pass=False, is_static_pass=False, is_valid=False)
+    return T["nubot_common/msg/StrategyInfo"](
+        header=header(t), AgentID=int(robot[-1]), targetNum1=0, targetNum2=0, targetNum3=0, targetNum4=0,
+        staticpassNum=0, staticcatchNum=0, role=0 if robot in GOALIES else 1, action=0, is_dribble=False,
+        is_kickoff=False, role_time=t, pass_cmd=pass_cmd)
+
+
 def game_state(t):
     running = 1.0 <= t < 12.0 or 14.0 <= t < 19.0
     game_time = min(max(t - 1.0, 0.0), 11.0) + min(max(t - 14.0, 0.0), 5.0)
@@ -137,6 +148,7 @@ KICKS = [  # t, robot, kind, velocity, ball position
     (18.0, "nubot3", -1, (-8.0, 0.0), (-5.0, 0.0)),
 ]
 GOALS = [(12.0, 1, "nubot1"), (19.0, -1, "nubot3")]
+GOALIES = {"nubot1", "rival2"}  # announce the role GOALIE in their StrategyInfo; the others ACTIVE
 COACH = [(0.5, "nubot", 1), (0.5, "rival", 2), (1.0, "nubot", 15), (1.0, "rival", 15)]
 
 
@@ -160,6 +172,9 @@ def scripted_messages(referee=True, clock=True, world=WORLD):
     for t, side, last in GOALS:
         events.append((t, "/sim_visual/goal", "GoalEvent", T["nubot_common/msg/GoalEvent"](
             header=header(t), side=side, ball_pos=point3(9.2 * side, 0.1, 0.2), last_touch=last)))
+    for t in np.arange(0.0, END, 0.5):
+        for robot in ("nubot1", "nubot2", "nubot3", "nubot4", "rival1", "rival2"):
+            events.append((float(t), f"/{robot}/nubotcontrol/strategy", "StrategyInfo", strategy_info(float(t), robot)))
     if referee:
         for t in np.arange(0.0, END + 0.5, 1.0):
             events.append((float(t), "/referee/state", "GameState", game_state(float(t))))
@@ -238,6 +253,20 @@ def test_report_passes_and_shots(report):
         (10.5, "lost", ""), (16.0, "intercepted", "nubot3"), (18.0, "lost", "")]
 
 
+def test_report_explains_the_shots_and_goals_with_the_goalies_the_strategies_announced(report):
+    _, r = report
+    shots = r["shot_report"]
+    assert shots["goalies"] == {"nubot": "nubot1", "rival": "rival2"}  # rival2 announced GOALIE, not AgentID 1
+    assert [(s["t"], s["robot"], s["kind"], s["outcome"], s["by"]) for s in shots["shots"]] == [
+        (9.0, "rival1", "flat", "saved", "nubot1"), (11.0, "nubot1", "lob", "goal", "")]
+    first, second = shots["goals"]
+    assert (first["scorer"], first["cause"], first["shot"]["t"], first["height_at_line_m"]) == ("nubot1", "turnover",
+                                                                                                 11.0, 0.2)
+    assert first["goalie"]["robot"] == "rival2" and first["defenders"][0]["robot"] == "rival1"
+    assert (second["scorer"], second["own_goal"], second["cause"], second["shot"]) == ("nubot3", True, "own goal",
+                                                                                       None)
+
+
 def test_report_referee_events_coach_commands_and_distances(report):
     _, r = report
     assert [(e["t"], e["event"]) for e in r["referee_events"]] == [
@@ -259,7 +288,7 @@ def test_report_json_keys_and_pngs(report):
     assert {"collisions", "ball_reach", "time", "ball_time_in_play"} <= set(r["definitions"])
     assert r["hull_radius_m"] == 0.26
     assert (r["collisions"]["total"], r["collisions"]["events"]) == (0, [])  # the scripted robots keep 2 m apart
-    for name in ("heatmap.png", "trajectories.png"):
+    for name in ("heatmap.png", "trajectories.png", "shots.png"):
         data = (out / name).read_bytes()
         assert data.startswith(b"\x89PNG") and len(data) > 10_000
 
@@ -270,7 +299,12 @@ def test_summary_and_progress_are_printed(match_bag, tmp_path, capsys):
     assert "field 18 x 12 m, goals 2.4 m wide (bag's world description)" in out
     assert "running 16.0 s (ball samples cover 16.0 s of it)" in out
     assert "score: nubot 1 - rival 1  (referee agrees)" in out
-    assert "goal at 19.0 s for rival (own goal by nubot3, half 1 at 16.0 s game time)" in out
+    assert ("goal at 12.0 s: half 1 0:11 nubot: nubot1; lob 5.0 m/s from (-7.5, +0.0) attacking +x, 16.5 m out, "
+            "0.20 m high at the line; turnover; goalie rival2 2.0 m off the line; nearest defenders rival1 1.0 m"
+            ) in out
+    assert "goal at 19.0 s: half 1 0:16 rival: own goal by nubot3; no shot, 0.20 m high at the line; own goal" in out
+    assert "shots (on target; goal/saved/blocked/wide): nubot 1 (1; 1/0/0/0), rival 1 (1; 0/1/0/0)" in out
+    assert "goals from: own goal 1, turnover 1" in out
     assert "passes completed/tried: nubot 2/5, rival 0/1" in out
     assert "nubot: nubot1 0.0, nubot2 3.0, nubot3 7.0, nubot4 0.0" in out
     assert "collisions: 0 (0.00 per running minute): opponents 0, nubot-nubot 0, rival-rival 0" in out

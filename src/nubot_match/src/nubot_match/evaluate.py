@@ -4,14 +4,16 @@
                                [--scheduler tcp://host:8786] [--field 18x12] [--tracker mpc] [--seed 0]
 
 Requires: two team YAMLs (a team may name a strategy class of its own, ``nubot_control.plugins``).
-Match i is played with seed ``--seed + i // 2``; odd matches swap the sides (AWAY kicks off and each
-team starts at the other end), so every seed is played both ways round. Matches run in ``--jobs``
+Match i is played with seed ``--seed + i``; odd matches swap the sides (AWAY kicks off and each team
+starts at the other end), so matches 2k and 2k + 1 are a pair, one each way round, but every match is a
+game of its own (the same seed each way round would replay one game mirrored). Matches run in ``--jobs``
 worker processes (default: every core) or, with ``--scheduler``, on an existing ``dask.distributed``
 cluster (its workers need this workspace on their PYTHONPATH: ``source devel/setup.bash``).
 Provides, in ``--out`` (default ``evaluations/<time>/``): ``results.json`` (the options, every finished
-match, failures, the summary with 95 % confidence intervals, the verdict, the throughput; rewritten
-after each match, so an interrupted evaluation keeps what finished), ``table.md`` and
-``goal_difference.png``; a progress bar with an ETA on stderr, the table and the verdict on stdout.
+match with its goals explained, failures, the summary with 95 % confidence intervals and the yardsticks of
+an MSL match, the verdict, the throughput; rewritten after each match, so an interrupted evaluation keeps
+what finished), ``table.md`` and ``goal_difference.png``; a progress bar with an ETA on stderr, the table
+and the verdict on stdout.
 Ctrl-C stops the workers and keeps the finished matches. Exit status: 0, 1 if a match failed or the
 evaluation was interrupted, 2 for bad options (a clear message, no traceback).
 """
@@ -38,7 +40,8 @@ from nubot_match.config import MatchConfig, match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.record import MatchLogRecorder
 from nubot_match.statistics import MatchResult, plot_goal_difference, summarise, table_text, verdict
-from nubot_tools.match_analysis import MatchSummary, analyse
+from nubot_tools.match_analysis import MatchLog, MatchSummary, analyse, running_intervals, stopped_time
+from nubot_tools.match_shots import ShotReport, explain
 from nubot_tools.workspace import TEAMS, WORKSPACE
 
 MAX_MATCHES = 100_000
@@ -49,7 +52,7 @@ class MatchJob:
     """One match to play: everything a worker needs (plain values, so it travels to any process)."""
 
     index: int
-    seed: int
+    seed: int  # the match's own
     swapped: bool  # AWAY kicks off and each team starts at the other end
     home: str
     away: str
@@ -65,7 +68,7 @@ def jobs_for(home: str, away: str, matches: int, half_seconds: float, halves: in
         raise NubotMatchError(f"the number of matches must lie in 1..{MAX_MATCHES}, got {matches}")
     if seed < 0:
         raise NubotMatchError(f"seed must not be negative, got {seed}")
-    return [MatchJob(i, seed + i // 2, i % 2 == 1, home, away, field, tracker, half_seconds, halves)
+    return [MatchJob(i, seed + i, i % 2 == 1, home, away, field, tracker, half_seconds, halves)
             for i in range(matches)]
 
 
@@ -74,14 +77,30 @@ def job_config(job: MatchJob) -> MatchConfig:
     return config.swapped() if job.swapped else config
 
 
-def team_figures(summary: MatchSummary, team: str) -> dict[str, float]:
+def team_figures(summary: MatchSummary, shots: ShotReport, team: str) -> dict[str, float]:
     """HOME's or AWAY's figures of one match; collisions are those a robot of ``team`` took part in."""
     collisions = sum(1 for c in summary.collisions if any(team_of(r) == team for r in c.robots))
+    passes = summary.pass_counts().get(team, {})
+    counts = shots.shot_counts().get(team, {})
     return {"goals": float(summary.score.get(team, 0)),
-            "passes_completed": float(summary.pass_counts().get(team, {}).get("completed", 0)),
+            "shots": float(counts.get("shots", 0)), "shots_on_target": float(counts.get("on_target", 0)),
+            "passes_tried": float(passes.get("tried", 0)), "passes_completed": float(passes.get("completed", 0)),
             "possession": float(summary.possession_share().get(team, 0.0)),
-            "shots": float(summary.shot_counts().get(team, 0)),
-            "collisions": float(collisions)}
+            "collisions": float(collisions), "fouls": 0.0}
+
+
+def match_counts(summary: MatchSummary, shots: ShotReport, log: MatchLog) -> dict[str, float]:
+    """The whole match's ``statistics.MATCH_COUNTS``, its goals by what led to them (goals_<cause>)."""
+    intervals = running_intervals(log.referee, log.start, log.end)
+    passes = summary.pass_counts().values()
+    counts = {"running_s": summary.running_time, "stopped_s": stopped_time(log.referee, intervals),
+              "goals": float(sum(summary.score.values())), "shots": float(len(shots.shots)),
+              "shots_scored": float(sum(s.outcome == "goal" for s in shots.shots)),
+              "passes_tried": float(sum(c["tried"] for c in passes)),
+              "passes_completed": float(sum(c["completed"] for c in passes)),
+              "collisions": float(len(summary.collisions))}
+    counts.update({f"goals_{cause}": float(n) for cause, n in shots.cause_counts().items()})
+    return {k: round(v, 3) for k, v in counts.items()}
 
 
 def play_match(job: MatchJob) -> MatchResult:
@@ -94,11 +113,15 @@ def play_match(job: MatchJob) -> MatchResult:
     start = time.perf_counter()
     match.run()
     wall = time.perf_counter() - start
-    summary = analyse(recorder.finish(), config.world, (config.teams[0].config.prefix, config.teams[0].config.attack))
+    log = recorder.finish()
+    summary = analyse(log, config.world, (config.teams[0].config.prefix, config.teams[0].config.attack))
+    shots = explain(summary, log)
     rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
-    return MatchResult(job.index, job.seed, home_team.config.attack, team_figures(summary, home_team.config.prefix),
-                       team_figures(summary, away_team.config.prefix), round(match.time, 3), round(wall, 3),
-                       round(rss, 1), len(summary.referee_events))
+    return MatchResult(job.index, job.seed, home_team.config.attack,
+                       team_figures(summary, shots, home_team.config.prefix),
+                       team_figures(summary, shots, away_team.config.prefix), round(match.time, 3), round(wall, 3),
+                       round(rss, 1), len(summary.referee_events), job.index // 2, match_counts(summary, shots, log),
+                       shots.to_json()["goals"])
 
 
 def _quiet_worker() -> None:

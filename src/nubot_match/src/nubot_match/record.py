@@ -15,6 +15,7 @@ import numpy as np
 from coach4sim.game import GameStateData
 from nubot_common.match_mode import MatchMode
 from nubot_common.percepts import RobotView
+from nubot_common.team_play import Role
 from nubot_common.world_description import WorldDescription
 from nubot_control.agent import AgentStep
 from nubot_tools import match_analysis as ma
@@ -62,6 +63,7 @@ class MatchLogRecorder(MatchListener):
         self.log = ma.MatchLog()
         self._times: list[float] = []
         self._positions: dict[str, tuple[list[int], list[float], list[float]]] = {}
+        self._goalie_cycles: dict[str, int] = {}  # control cycles each robot announced itself goalie
 
     def start(self, world: WorldDescription, t: float) -> None:
         self.log.world = world
@@ -78,7 +80,8 @@ class MatchLogRecorder(MatchListener):
     def sim_event(self, event: SimEvent) -> None:
         log = self.log
         if isinstance(event, GoalScored):
-            log.goals.append(ma.Goal(event.time, event.side, (event.ball.x, event.ball.y), event.last_touch))
+            log.goals.append(ma.Goal(event.time, event.side, (event.ball.x, event.ball.y), event.last_touch,
+                                    event.ball.z))
         elif isinstance(event, BallKicked):
             log.kicks.append(ma.Kick(event.time, event.robot, int(event.kind), event.velocity, event.position[:2]))
         elif isinstance(event, BallTouched):
@@ -91,12 +94,17 @@ class MatchLogRecorder(MatchListener):
     def coach(self, t: float, team: str, mode: MatchMode, previous: MatchMode) -> None:
         self.log.coach.append(ma.CoachCommand(t, team, int(mode)))
 
+    def robot_step(self, t: float, robot: str, step: AgentStep) -> None:
+        if step.report.role == Role.GOALIE:
+            self._goalie_cycles[robot] = self._goalie_cycles.get(robot, 0) + 1
+
     def finish(self) -> ma.MatchLog:
         """The log so far, with its tracks built (call once the match is over)."""
         times = np.asarray(self._times, dtype=float)
         log = self.log
         for name, (indices, xs, ys) in self._positions.items():
             log.tracks[name] = ma.Track(name, times[np.asarray(indices, dtype=int)], np.column_stack([xs, ys]))
+        log.goalies = ma.goalies_by_role(self._goalie_cycles)
         records: list[Any] = [*log.goals, *log.kicks, *log.touches, *log.referee, *log.coach]
         seen = [*self._times, *(r.t for r in records)]
         log.start, log.end = (float(min(seen)), float(max(seen))) if seen else (0.0, 0.0)

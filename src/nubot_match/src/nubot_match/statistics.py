@@ -1,36 +1,47 @@
 """Many matches summed up: each figure with its 95 % confidence interval, a table, a verdict and a plot.
 
-Requires: per-match results (``MatchResult``: HOME's and AWAY's goals, passes completed, possession
-share, shots, collisions, each from HOME's point of view whatever end it played at).
-Provides: ``summarise`` -> ``Summary`` (rows of mean and 95 % CI per team and figure; wins, draws and
-losses as shares with Wilson intervals; the goal difference per match with a Student-t interval),
-``table_text`` (a Markdown table), ``verdict`` (one line) and ``plot_goal_difference`` (a PNG).
-Confidence intervals: means use the t distribution over the per-seed means (the matches of one seed,
-one each way round, are a pair and one independent unit: n seeds, n - 1 degrees of freedom); wins,
-draws and losses use the Wilson score interval per match (``scipy.stats.binomtest``); with one unit
-an interval is unknown (NaN) and said so.
+Requires: per-match results (``MatchResult``: HOME's and AWAY's ``FIGURES`` (goals, shots, passes,
+possession, collisions, fouls), each from HOME's point of view whatever end it played at, and the whole
+match's ``MATCH_COUNTS``: running and stopped time [s], goals, shots and the shots that scored, passes,
+collisions, fouls and goals by kind).
+Provides: ``summarise`` -> ``Summary`` (rows of mean and 95 % CI per team and figure; the ``YARDSTICKS``
+that say whether the matches play like MSL matches, each with its interval, target and verdict; wins,
+draws and losses as shares with Wilson intervals; the goal difference per match with a Student-t
+interval), ``table_text`` (Markdown tables), ``verdict`` (one line) and ``plot_goal_difference`` (a PNG).
+Confidence intervals: every match is an independent game (a seed of its own), so figures and yardsticks
+use the t distribution over the matches; the goal difference pairs the two matches each way round
+(``MatchResult.pair``: one unit, n pairs, n - 1 degrees of freedom), which takes what an end or a
+kick-off gives out of the comparison; wins, draws and losses use the Wilson score interval per match
+(``scipy.stats.binomtest``); with one unit an interval is unknown (NaN) and said so. Yardsticks are
+per 2 x 15 min of play (the game clock): shorter halves are scaled to it.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
 from scipy import stats
 
 LEVEL = 0.95
-FIGURES = ("goals", "passes_completed", "possession", "shots", "collisions")  # per team, per match
-WORDS = {"goals": "goals", "passes_completed": "passes completed", "possession": "possession (share of play)",
-         "shots": "shots", "collisions": "collisions (own team + with opponents)"}
+FIGURES = ("goals", "shots", "shots_on_target", "passes_tried", "passes_completed", "possession", "collisions",
+           "fouls")  # per team, per match
+WORDS = {"goals": "goals", "shots": "shots", "shots_on_target": "shots on target", "passes_tried": "passes tried",
+         "passes_completed": "passes completed", "possession": "possession (share of play)",
+         "collisions": "collisions (own team + with opponents)", "fouls": "fouls"}
+# The whole match's counts behind the yardsticks (besides fouls_<kind> and goals_<cause>, one per kind).
+MATCH_COUNTS = ("running_s", "stopped_s", "goals", "shots", "shots_scored", "passes_tried", "passes_completed",
+                "collisions")
+MATCH_SECONDS = 1800.0  # an MSL match: 2 x 15 min of play [s]
 
 
 @dataclass(frozen=True)
 class MatchResult:
     index: int  # match number, 0-based
-    seed: int
+    seed: int  # the match's own seed
     home_attacks: int  # the end HOME attacked in the first half: 1 (+x) or -1 (-x)
     home: dict[str, float]  # FIGURES for HOME
     away: dict[str, float]  # FIGURES for AWAY
@@ -38,6 +49,14 @@ class MatchResult:
     wall_seconds: float  # [s] the match took
     rss_mib: float  # peak resident memory of the process that played it [MiB]
     events: int = 0  # referee events
+    pair: int = -1  # the two matches each way round share a pair (-1: the match is a pair of its own)
+    match: dict[str, float] = field(default_factory=dict)  # MATCH_COUNTS, fouls_<kind>, goals_<cause>
+    goals: list[dict] = field(default_factory=list)  # each goal explained (``match_shots.ShotReport.to_json``)
+
+    @property
+    def unit(self) -> int:
+        """The independent unit of the goal difference: the pair, else the match."""
+        return self.pair if self.pair >= 0 else -1 - self.index
 
     def to_json(self) -> dict:
         return asdict(self)
@@ -50,9 +69,79 @@ class Interval:
     high: float
 
     def text(self, digits: int = 2) -> str:
+        if math.isnan(self.mean):
+            return "unknown"
         if math.isnan(self.low):
-            return f"{self.mean:.{digits}f} (CI unknown: one seed)"
+            return f"{self.mean:.{digits}f} (CI unknown: one unit)"
         return f"{self.mean:.{digits}f} [{self.low:.{digits}f}, {self.high:.{digits}f}]"
+
+
+@dataclass(frozen=True)
+class Yardstick:
+    """A figure of the whole match that an MSL match keeps within ``low``..``high`` (None: no bound)."""
+
+    name: str
+    words: str
+    value: Callable[[dict[str, float]], float | None]  # from a match's counts; None when it has no value
+    low: float | None = None
+    high: float | None = None
+
+    def target(self) -> str:
+        if self.low is not None and self.high is not None:
+            return f"{self.low:g} to {self.high:g}"
+        if self.low is not None:
+            return f"at least {self.low:g}"
+        return f"at most {self.high:g}" if self.high is not None else "(reported)"
+
+    def met(self, mean: float) -> bool | None:
+        """Whether the mean lies within the target; None without a target or a mean."""
+        if (self.low is None and self.high is None) or math.isnan(mean):
+            return None
+        return (self.low is None or mean >= self.low) and (self.high is None or mean <= self.high)
+
+
+def _per_match(counts: dict[str, float], key: str) -> float | None:
+    running = counts.get("running_s", 0.0)
+    return counts.get(key, 0.0) * MATCH_SECONDS / running if running > 0 else None
+
+
+def _share(numerator: str, denominator: str) -> Callable[[dict[str, float]], float | None]:
+    def value(counts: dict[str, float]) -> float | None:
+        total = counts.get(denominator, 0.0)
+        return counts.get(numerator, 0.0) / total if total > 0 else None
+    return value
+
+
+def _per_minute(key: str) -> Callable[[dict[str, float]], float | None]:
+    def value(counts: dict[str, float]) -> float | None:
+        running = counts.get("running_s", 0.0)
+        return counts.get(key, 0.0) * 60.0 / running if running > 0 else None
+    return value
+
+
+def _running_share(counts: dict[str, float]) -> float | None:
+    total = counts.get("running_s", 0.0) + counts.get("stopped_s", 0.0)
+    return counts.get("running_s", 0.0) / total if total > 0 else None
+
+
+YARDSTICKS = (
+    Yardstick("goals", "goals per match (2 x 15 min of play)", lambda c: _per_match(c, "goals"), 3.0, 10.0),
+    Yardstick("shots_per_team_half", "shots per team per 15 min half",
+              lambda c: (v / 4.0 if (v := _per_match(c, "shots")) is not None else None)),
+    Yardstick("scoring_share", "share of shots that score", _share("shots_scored", "shots"), 0.10, 0.30),
+    Yardstick("collisions_per_minute", "robot-robot collisions per running minute", _per_minute("collisions"),
+              None, 5.0),
+    Yardstick("pass_completion", "share of passes completed", _share("passes_completed", "passes_tried"), 0.70),
+    Yardstick("running_share", "share of the match the ball is in play", _running_share, 0.60),
+)
+
+
+def kinds_in(results: Sequence[MatchResult], prefix: str) -> list[str]:
+    """The kinds counted as ``<prefix><kind>`` in the matches' counts (fouls_, goals_), in order of appearance."""
+    kinds: list[str] = []
+    for r in results:
+        kinds += [k[len(prefix):] for k in r.match if k.startswith(prefix) and k[len(prefix):] not in kinds]
+    return kinds
 
 
 @dataclass(frozen=True)
@@ -63,12 +152,19 @@ class Summary:
     rows: dict[str, tuple[Interval, Interval]]  # figure -> (HOME, AWAY)
     outcomes: dict[str, tuple[int, Interval]]  # wins / draws / losses of HOME: count, share with CI
     goal_difference: Interval  # HOME minus AWAY goals per match
+    yardsticks: dict[str, Interval] = field(default_factory=dict)  # YARDSTICKS by name
+    fouls: dict[str, Interval] = field(default_factory=dict)  # per match (2 x 15 min of play), by kind
+    causes: dict[str, Interval] = field(default_factory=dict)  # goals per match by what led to them
 
     def to_json(self) -> dict:
+        sticks = {y.name: {**asdict(self.yardsticks[y.name]), "target": y.target(),
+                           "met": y.met(self.yardsticks[y.name].mean)} for y in YARDSTICKS if y.name in self.yardsticks}
         return {"matches": self.matches, "home": self.home, "away": self.away, "confidence": LEVEL,
                 "figures": {k: {"home": asdict(h), "away": asdict(a)} for k, (h, a) in self.rows.items()},
                 "outcomes": {k: {"count": n, **asdict(i)} for k, (n, i) in self.outcomes.items()},
-                "goal_difference": asdict(self.goal_difference)}
+                "goal_difference": asdict(self.goal_difference),
+                "yardsticks": sticks, "fouls_per_match": {k: asdict(v) for k, v in self.fouls.items()},
+                "goals_per_match_by_cause": {k: asdict(v) for k, v in self.causes.items()}}
 
 
 def mean_interval(values: Sequence[float]) -> Interval:
@@ -94,18 +190,17 @@ def share_interval(count: int, total: int) -> Interval:
     return Interval(count / total, float(ci.low), float(ci.high))
 
 
-def per_seed(results: Sequence[MatchResult], value: Callable[[MatchResult], float]) -> list[float]:
-    """``value`` averaged over the matches of each seed: the independent units. The two matches of a seed (one
-    each way round) are a pair; with identical teams they mirror each other, so counting them as two independent
-    matches would halve nothing but the interval."""
-    by_seed: dict[int, list[float]] = {}
+def per_unit(results: Sequence[MatchResult], value: Callable[[MatchResult], float]) -> list[float]:
+    """``value`` averaged over the matches of each pair (``MatchResult.unit``): the two matches each way round of a
+    comparison are one unit of the goal difference."""
+    by_unit: dict[int, list[float]] = {}
     for r in results:
-        by_seed.setdefault(r.seed, []).append(value(r))
-    return [sum(v) / len(v) for v in by_seed.values()]
+        by_unit.setdefault(r.unit, []).append(value(r))
+    return [sum(v) / len(v) for v in by_unit.values()]
 
 
 def _figure(results: Sequence[MatchResult], side: str, figure: str) -> list[float]:
-    return per_seed(results, lambda r: getattr(r, side)[figure])
+    return [getattr(r, side).get(figure, 0.0) for r in results]
 
 
 def _goal_difference(r: MatchResult) -> float:
@@ -120,13 +215,22 @@ def summarise(results: Sequence[MatchResult], home: str = "HOME", away: str = "A
     wins, draws = sum(d > 0 for d in diff), sum(d == 0 for d in diff)
     outcomes = {"wins": (wins, share_interval(wins, n)), "draws": (draws, share_interval(draws, n)),
                 "losses": (n - wins - draws, share_interval(n - wins - draws, n))}
-    return Summary(n, home, away, rows, outcomes,
-                   mean_interval(per_seed(results, _goal_difference)))
+    sticks = {}
+    for y in YARDSTICKS:
+        values = [v for r in results if (v := y.value(r.match)) is not None]
+        sticks[y.name] = mean_interval(values)
+    fouls = {k: mean_interval([v for r in results if (v := _per_match(r.match, f"fouls_{k}")) is not None])
+             for k in kinds_in(results, "fouls_")}
+    causes = {k: mean_interval([v for r in results if (v := _per_match(r.match, f"goals_{k}")) is not None])
+              for k in kinds_in(results, "goals_")}
+    return Summary(n, home, away, rows, outcomes, mean_interval(per_unit(results, _goal_difference)), sticks, fouls,
+                   causes)
 
 
 def table_text(s: Summary) -> str:
-    """A Markdown table: per match, mean and 95 % CI of each figure for both teams; HOME's outcomes."""
-    lines = [f"| per match ({s.matches} matches, 95 % CI over seeds) | {s.home} | {s.away} |", "| --- | --- | --- |"]
+    """Markdown tables: per match, mean and 95 % CI of each figure for both teams and HOME's outcomes; then the
+    yardsticks of an MSL match with their targets, the fouls and the goals by what led to them."""
+    lines = [f"| per match ({s.matches} matches, 95 % CI) | {s.home} | {s.away} |", "| --- | --- | --- |"]
     for key, (n, share) in s.outcomes.items():
         other = {"wins": "losses", "losses": "wins", "draws": "draws"}[key]
         m, o = s.outcomes[other]
@@ -134,7 +238,21 @@ def table_text(s: Summary) -> str:
     for figure, (h, a) in s.rows.items():
         lines.append(f"| {WORDS[figure]} | {h.text()} | {a.text()} |")
     d = s.goal_difference
-    lines.append(f"| goal difference ({s.home} - {s.away}) | {d.text()} | |")
+    lines.append(f"| goal difference ({s.home} - {s.away}; pairs each way round) | {d.text()} | |")
+    if s.yardsticks:
+        lines += ["", "| an MSL match? (per 2 x 15 min of play, 95 % CI) | mean | target | met |",
+                  "| --- | --- | --- | --- |"]
+        for y in YARDSTICKS:
+            value = s.yardsticks.get(y.name)
+            if value is None:
+                continue
+            met = y.met(value.mean)
+            lines.append(f"| {y.words} | {value.text()} | {y.target()} | "
+                         f"{'' if met is None else 'yes' if met else 'NO'} |")
+        for kind, value in s.fouls.items():
+            lines.append(f"| fouls: {kind} | {value.text()} | (reported) | |")
+        for cause, value in s.causes.items():
+            lines.append(f"| goals from: {cause} | {value.text()} | (reported) | |")
     return "\n".join(lines) + "\n"
 
 
@@ -144,8 +262,8 @@ def verdict(s: Summary) -> str:
     if s.matches == 0:
         return "no match finished: no verdict"
     if math.isnan(d.low):
-        return (f"{s.home} - {s.away}: {d.mean:+.1f} goals per match over one seed; play at least 4 matches "
-                "(two seeds) for a verdict")
+        return (f"{s.home} - {s.away}: {d.mean:+.1f} goals per match over one pair; play at least 4 matches "
+                "(two pairs) for a verdict")
     ci = f"95 % CI [{d.low:+.1f}, {d.high:+.1f}]"
     if d.low > 0:
         return f"{s.home} better than {s.away} by {d.mean:+.1f} goals per match, {ci}"

@@ -25,12 +25,14 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
   goal when the last touch was by the other team. The score is counted from these and compared with the last
   ``GameState.score``; a ball pushed into a goal while play is stopped is listed apart
   (``goals_outside_play``), as the referee does not count it;
-- touch: a ``BallTouch`` or a ``KickEvent`` (a kicker touched the ball);
+- touch: a ``BallTouch`` or a ``KickEvent`` (a kicker touched the ball); a ``BallTouch`` by the kicker within
+  ``KICK_TOUCH_TIME`` (0.05 s) after its kick is that kick;
 - possession: the share of running time during which the last robot to touch the ball
   belongs to each team ("nobody" before the first touch);
 - kick in play: a kick during running time; kicks outside it are counted apart only;
 - shot: a kick in play whose straight-line ground direction crosses the goal line its team
-  attacks between the posts, or any lob (kind 1) towards the half its team attacks;
+  attacks at most ``SHOT_WIDE_MARGIN`` (1 m) outside a post, or any lob (kind 1) towards the half its
+  team attacks (``match_shots`` says which shots were on target and how each ended);
 - pass tried: a kick in play that is not a shot. It is completed when the next touch by a
   robot other than the kicker is by a teammate, intercepted when it is by an opponent,
   lost when a goal, a stop of play or another kick by the kicker comes first, unresolved
@@ -68,6 +70,8 @@ from nubot_common.field import FieldGeometry
 from nubot_common.naming import is_robot_name, team_of
 from nubot_common.world_description import WorldDescription
 
+SHOT_WIDE_MARGIN = 1.0  # a ground kick crossing the goal line this far outside a post is still a shot [m]
+KICK_TOUCH_TIME = 0.05  # a touch by the kicker this soon after its kick is the kick itself [s]
 GOAL_GRACE = 0.5  # a goal event this soon after play stopped still counts (the referee saw it first) [s]
 NOBODY = "nobody"
 
@@ -79,11 +83,12 @@ DEFINITIONS = {
             "credited to the team attacking that side (GameState.attack, else --attack); own goal when the last "
             "touch was by the other team; score_from_referee is the last GameState.score; goals_outside_play: "
             "goal events while play was stopped (not counted)",
-    "touch": "a BallTouch or a KickEvent (the kicker touched the ball)",
+    "touch": "a BallTouch or a KickEvent (the kicker touched the ball); a BallTouch by the kicker within 0.05 s after "
+             "its kick is that kick",
     "possession": "share of running time during which the last robot to touch the ball belongs to each team",
     "kick_in_play": "a kick during running time; kicks outside it are only counted (kicks_outside_play)",
-    "shot": "a kick in play whose straight ground direction crosses the attacked goal line between the posts, "
-            "or any lob (kind 1) towards the attacked half",
+    "shot": "a kick in play whose straight ground direction crosses the attacked goal line at most 1 m outside a "
+            "post, or any lob (kind 1) towards the attacked half",
     "pass": "a kick in play that is not a shot; completed when the next touch by another robot is by a teammate, "
             "intercepted when by an opponent, lost when a goal, a stop of play or another kick by the kicker comes "
             "first, unresolved when the recording ends first; failed = tried - completed",
@@ -128,6 +133,7 @@ class Goal:
     side: int  # goal at +x (1) or -x (-1)
     ball_xy: tuple[float, float]  # [m]
     last_touch: str  # robot, "" if none
+    height: float = math.nan  # ball centre's height when seen in the goal [m], NaN unknown
 
 
 @dataclass(frozen=True)
@@ -177,6 +183,7 @@ class MatchLog:
     start: float = 0.0  # [s] first time seen
     end: float = 0.0  # [s] last time seen
     world: WorldDescription | None = None  # the world the bag recorded, None if it recorded none
+    goalies: dict[str, str] = field(default_factory=dict)  # team -> its goalie's model name, where known
 
 
 @dataclass(frozen=True)
@@ -394,6 +401,17 @@ def running_intervals(referee: Sequence[RefereeState], start: float, end: float)
     return intervals
 
 
+def stopped_time(referee: Sequence[RefereeState], intervals: Sequence[tuple[float, float]]) -> float:
+    """Return the time [s] play stood still within the halves: the gaps between running intervals of one half (a
+    gap across a change of half is the half-time break, not counted)."""
+    stopped = 0.0
+    for (_, b), (a, _) in zip(intervals, intervals[1:]):
+        before, after = state_at(referee, b - 1e-9), state_at(referee, a)
+        if before is not None and after is not None and before.half == after.half:
+            stopped += a - b
+    return stopped
+
+
 def goal_stops(referee: Sequence[RefereeState], intervals: Sequence[tuple[float, float]]) -> list[bool]:
     """Return for each running interval whether play stopped for a goal: the referee's score rose within
     ``GOAL_GRACE`` of the interval's end (rather than full time, a foul or a coach's stop)."""
@@ -447,7 +465,7 @@ def sample_durations(t: np.ndarray) -> np.ndarray:
     return np.append(steps, np.median(steps))
 
 
-def _inside(t: float, intervals: Sequence[tuple[float, float]]) -> int:
+def inside(t: float, intervals: Sequence[tuple[float, float]]) -> int:
     """Return the index of the interval holding t, -1 if none (the last interval includes its end)."""
     for i, (a, b) in enumerate(intervals):
         if a <= t < b or (i == len(intervals) - 1 and t == b):
@@ -456,7 +474,7 @@ def _inside(t: float, intervals: Sequence[tuple[float, float]]) -> int:
 
 
 def interval_index(t: np.ndarray, intervals: Sequence[tuple[float, float]]) -> np.ndarray:
-    """Return for each time the index of the interval holding it, -1 if none (``_inside`` for an array)."""
+    """Return for each time the index of the interval holding it, -1 if none (``inside`` for an array)."""
     t = np.asarray(t, dtype=float)
     if not intervals:
         return np.full(len(t), -1)
@@ -466,7 +484,7 @@ def interval_index(t: np.ndarray, intervals: Sequence[tuple[float, float]]) -> n
     return np.where(inside, i, -1)
 
 
-def _state_at(referee: Sequence[RefereeState], t: float) -> RefereeState | None:
+def state_at(referee: Sequence[RefereeState], t: float) -> RefereeState | None:
     """Return the referee state in force at t (the first one before any was published)."""
     if not referee:
         return None
@@ -477,7 +495,7 @@ def _state_at(referee: Sequence[RefereeState], t: float) -> RefereeState | None:
 def attack_at(referee: Sequence[RefereeState], t: float, default_attack: dict[str, int]) -> dict[str, int]:
     """Return the side each team attacks at time t: the referee's if known, else ``default_attack``."""
     attack = dict(default_attack)
-    state = _state_at(referee, t)
+    state = state_at(referee, t)
     if state is not None:
         attack.update({team: int(side) for team, side in zip(state.teams, state.attack)})
     return attack
@@ -501,7 +519,7 @@ def credit_goals(log: MatchLog, default_attack: dict[str, int]) -> tuple[list[Cr
             warnings.append(f"goal at t={goal.t:.3f} s: {len(teams)} teams attack side {goal.side}; not credited")
         team = teams[0] if len(teams) == 1 else ""
         own = bool(goal.last_touch) and bool(team) and team_of(goal.last_touch) != team
-        state = _state_at(log.referee, goal.t)
+        state = state_at(log.referee, goal.t)
         if state is None:
             half, game_time = 0, None
         else:
@@ -511,9 +529,32 @@ def credit_goals(log: MatchLog, default_attack: dict[str, int]) -> tuple[list[Cr
     return credited, warnings
 
 
+def goalies_by_role(goalie_cycles: dict[str, int]) -> dict[str, str]:
+    """Each team's goalie: of the robots that announced the role GOALIE, the one that did so most often."""
+    best: dict[str, tuple[int, str]] = {}
+    for robot, cycles in goalie_cycles.items():
+        team = team_of(robot)
+        if cycles > 0 and (cycles, robot) > best.get(team, (0, "")):
+            best[team] = (cycles, robot)
+    return {team: robot for team, (_, robot) in sorted(best.items())}
+
+
 def touch_sequence(log: MatchLog) -> list[Touch]:
-    """Return ball touches and kicks (a kick is a touch by the kicker) in time order."""
-    touches = [*log.touches, *(Touch(k.t, k.robot) for k in log.kicks)]
+    """Return ball touches and kicks (a kick is a touch by the kicker) in time order; a touch by the kicker within
+    ``KICK_TOUCH_TIME`` after its kick is the kick itself (the simulator reports it as a touch when another robot
+    had touched the held ball last) and is left out."""
+    kicks = sorted((k.t, k.robot) for k in log.kicks)
+    times = [t for t, _ in kicks]
+
+    def the_kick(touch: Touch) -> bool:
+        i = bisect.bisect_right(times, touch.t) - 1
+        while i >= 0 and touch.t - kicks[i][0] <= KICK_TOUCH_TIME:
+            if kicks[i][1] == touch.robot:
+                return True
+            i -= 1
+        return False
+
+    touches = [*(x for x in log.touches if not the_kick(x)), *(Touch(t, robot) for t, robot in kicks)]
     return sorted(touches, key=lambda x: x.t)
 
 
@@ -531,19 +572,26 @@ def possession(touches: Sequence[Touch], intervals: Sequence[tuple[float, float]
     return seconds
 
 
-def is_shot(kick: Kick, side: int, field: FieldGeometry) -> bool:
-    """True when the kick goes towards the goal at ``side`` (+1/-1): between the posts, or any lob into that half."""
+def shot_line(kick: Kick, side: int, field: FieldGeometry) -> tuple[float, float] | None:
+    """Where the kick's straight ground line crosses the goal line at ``side`` (+1/-1) [m], or None if it goes away
+    from that line (or starts behind it)."""
     vx, vy = kick.velocity[0], kick.velocity[1]
-    if vx * side <= 0.0:
+    x0, y0 = kick.ball_xy
+    goal_x = side * field.half_length
+    if vx * side <= 1e-9 or (goal_x - x0) * side <= 0.0:
+        return None
+    return goal_x, y0 + vy * (goal_x - x0) / vx
+
+
+def is_shot(kick: Kick, side: int, field: FieldGeometry) -> bool:
+    """True when the kick goes towards the goal at ``side`` (+1/-1): any lob into that half, or a ground kick whose
+    line crosses the goal line at most ``SHOT_WIDE_MARGIN`` outside a post."""
+    if kick.velocity[0] * side <= 0.0:
         return False
     if kick.kind == 1:
         return True
-    x0, y0 = kick.ball_xy
-    goal_x = side * field.half_length
-    if (goal_x - x0) * side <= 0.0:
-        return False
-    y_at_line = y0 + vy * (goal_x - x0) / vx
-    return abs(y_at_line) <= field.goal_width / 2.0
+    crossing = shot_line(kick, side, field)
+    return crossing is not None and abs(crossing[1]) <= field.goal_width / 2.0 + SHOT_WIDE_MARGIN
 
 
 def classify_kicks(log: MatchLog, intervals: Sequence[tuple[float, float]], default_attack: dict[str, int],
@@ -554,7 +602,7 @@ def classify_kicks(log: MatchLog, intervals: Sequence[tuple[float, float]], defa
     outcomes = []
     for kick in log.kicks:
         team = team_of(kick.robot)
-        in_play = _inside(kick.t, intervals) >= 0
+        in_play = inside(kick.t, intervals) >= 0
         side = attack_at(log.referee, kick.t, default_attack).get(team, 0)
         shot = in_play and side != 0 and is_shot(kick, side, field)
         outcome, receiver = "", ""
@@ -566,7 +614,7 @@ def classify_kicks(log: MatchLog, intervals: Sequence[tuple[float, float]], defa
 
 def _pass_outcome(kick: Kick, touches: Sequence[Touch], goal_times: Sequence[float],
                   intervals: Sequence[tuple[float, float]], end: float) -> tuple[str, str]:
-    _, b = intervals[_inside(kick.t, intervals)]
+    _, b = intervals[inside(kick.t, intervals)]
     stop = min([b if b < end else math.inf, *(g for g in goal_times if g > kick.t)])  # play ends here
     for touch in touches[bisect.bisect_right([t.t for t in touches], kick.t):]:
         if touch.t >= stop or touch.robot == kick.robot:  # the kicker kicked again before anybody else touched

@@ -5,7 +5,8 @@ the field and its ``border``), and plain data from ``match_analysis``: ball posi
 [s] each covers (``BallTime``), robot ``Track``s (sim time [s], world-frame positions [m]) and the teams.
 Provides: ``draw_field`` (touch, goal and halfway lines, penalty and goal areas, centre circle, corner arcs,
 centre spot, penalty marks, both goals), ``plot_ball_heatmap`` (seconds of running time per cell) and
-``plot_trajectories`` (one colour family per team); each plot writes a PNG and returns its ``Figure``.
+``plot_trajectories`` (one colour family per team) and ``plot_shot_map`` (every shot of each team on the half it
+attacks, by outcome); each plot writes a PNG and returns its ``Figure``.
 Parameters: ``bin_size`` [m] of the heat map's cells (0.5), ``teleport_step`` [m] (1.0: longer steps are not
 drawn as lines), ``max_points`` per trajectory (4000).
 """
@@ -23,6 +24,7 @@ from matplotlib.figure import Figure
 from nubot_common.field import FieldGeometry
 from nubot_common.naming import is_robot_name, team_of
 from nubot_tools.match_analysis import Track
+from nubot_tools.match_shots import Shot
 
 TEAM_COLOURS = (("Blues", "blue"), ("Reds", "red"), ("Greens", "green"), ("Purples", "purple"),
                 ("Oranges", "orange"), ("Greys", "grey"))  # (colour map, name) per team, in the teams' order
@@ -124,5 +126,50 @@ def plot_trajectories(tracks: dict[str, Track], teams: Sequence[str], field: Fie
     if robots:
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, title="o start, \u25a0 end")
     ax.set_title(f"{title}: {', '.join(legend)}" if legend else title)
+    fig.savefig(path, dpi=100, bbox_inches="tight")
+    return fig
+
+
+SHOT_STYLES = {"goal": ("*", "gold", 16), "saved": ("o", "tab:blue", 8), "blocked": ("X", "tab:red", 8),
+               "wide": ("^", "0.5", 7)}  # outcome -> (marker, colour, size)
+
+
+def plot_shot_map(shots: Sequence[Shot], teams: Sequence[str], field: FieldGeometry, path: Path,
+                  title: str = "Shot map") -> Figure:
+    """Write a PNG with one panel per team: the attacked half (the team attacking to the right whatever its end),
+    each shot at the point it was kicked, marked by its outcome (a lob with a hollow marker), each goal with a line to
+    where it crossed the goal line."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.lines import Line2D
+
+    hl, hw, b = field.half_length, field.half_width, field.border
+    panels = list(teams) or ["(no team)"]
+    fig = Figure(figsize=(5.5 * len(panels), 5.5 * (hw + b) / (hl / 2 + b) * 0.5 + 1.5))
+    FigureCanvasAgg(fig)
+    for i, team in enumerate(panels):
+        ax = fig.add_subplot(1, len(panels), i + 1)
+        ax.set_facecolor(GRASS)
+        ax.set_xlim(-0.5, hl + b)
+        ax.set_ylim(-hw - b, hw + b)
+        ax.set_aspect("equal")
+        draw_field(ax, field)
+        mine = [s for s in shots if s.team == team]
+        for s in mine:
+            x, y = s.origin_attacking_right()
+            marker, colour, size = SHOT_STYLES[s.outcome]
+            if s.outcome == "goal":
+                ax.plot([x, hl], [y, s.target[1] * s.side], color="gold", linewidth=0.8, alpha=0.7, zorder=3)
+            ax.plot(x, y, marker=marker, markersize=size, linestyle="none", zorder=4,
+                    markerfacecolor="none" if s.kind == 1 else colour, markeredgecolor=colour if s.kind == 1
+                    else "black", markeredgewidth=1.2 if s.kind == 1 else 0.5)
+        counts = {o: sum(1 for s in mine if s.outcome == o) for o in SHOT_STYLES}
+        ax.set_title(f"{team}: {len(mine)} shots, " + ", ".join(f"{n} {o}" for o, n in counts.items()), fontsize=10)
+        ax.set_xlabel("x [m] towards the attacked goal")
+    handles = [Line2D([], [], marker=m, color=c, markersize=min(s, 10), linestyle="none", label=o)
+               for o, (m, c, s) in SHOT_STYLES.items()]
+    handles.append(Line2D([], [], marker="o", color="white", markeredgecolor="black", linestyle="none",
+                          label="hollow: lob"))
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=9)
+    fig.suptitle(title)
     fig.savefig(path, dpi=100, bbox_inches="tight")
     return fig

@@ -10,8 +10,11 @@ neither ROS nor the workspace's .msg files are needed, only the ``rosbags`` pack
 ``/sim_visual/world_description`` (WorldDescription, latched: the field, the ball's model name, the
 robots' radius).
 Provides: ``report.json`` (with "field": the field used [m] and its source: bag, --field, flags or
-default), ``heatmap.png`` (running time [s] of the ball per cell) and ``trajectories.png`` in
-``--out`` (default: the bag's folder), and a short summary on stdout; progress on stderr.
+default; "shot_report": every shot and every goal explained, ``match_shots``), ``heatmap.png`` (running
+time [s] of the ball per cell), ``trajectories.png`` and ``shots.png`` (the shot map) in ``--out``
+(default: the bag's folder), and a short summary on stdout (each goal in a line); progress on stderr.
+Each team's goalie is the robot that announced the role GOALIE most in its first StrategyInfo messages
+(``/<robot>/nubotcontrol/strategy``), else AgentID 1.
 Parameters: ``--field 18x12|22x14|PATH`` (a world description instead of the bag's; without either,
 the 18 x 12 m default and a warning), ``--field-length`` / ``--field-width`` / ``--goal-width`` [m]
 (override those dimensions of the field used), ``--attack TEAM=+x|-x`` (the side TEAM attacks when
@@ -50,7 +53,7 @@ from nubot_common.naming import team_of
 from nubot_common.params import from_mapping
 from nubot_common.world_description import BallBody, RobotBody, WorldDescription, load_world
 from nubot_tools import match_analysis as ma
-from nubot_tools import match_plots
+from nubot_tools import match_plots, match_shots
 
 MATCH_TOPICS = {
     "/sim_visual/model_states": "nubot_common/msg/ModelStates",
@@ -63,10 +66,14 @@ WORLD_TOPIC, WORLD_TYPE = "/sim_visual/world_description", "nubot_common/msg/Wor
 CLOCK_TOPIC, CLOCK_TYPE = "/clock", "rosgraph_msgs/msg/Clock"
 COACH_TOPIC = re.compile(r"^/(?P<team>[^/]+)/receive_from_coach$")
 COACH_TYPE = "nubot_common/msg/CoachInfo"
+STRATEGY_TOPIC = re.compile(r"^/(?P<robot>[^/]+)/nubotcontrol/strategy$")
+STRATEGY_TYPE = "nubot_common/msg/StrategyInfo"
+GOALIE_ROLE = 0  # StrategyInfo.role GOALIE
+GOALIE_SAMPLES = 200  # StrategyInfo messages read per robot to tell each team's goalie
 DEFAULT_FIELD = "18x12"
 PROGRESS_STEPS = 10  # progress lines per bag
 PROGRESS_MIN_MESSAGES = 10_000  # smaller bags read in a blink: no progress lines
-REPORT_FILES = ("report.json", "heatmap.png", "trajectories.png")  # what a report writes into --out
+REPORT_FILES = ("report.json", "heatmap.png", "trajectories.png", "shots.png")  # what a report writes into --out
 
 
 class MatchReportError(Exception):
@@ -140,7 +147,8 @@ class MatchLogBuilder:
         self.stamp_lags.append(bag_time - t)
         log = self.log
         if msgtype == MATCH_TOPICS["/sim_visual/goal"]:
-            log.goals.append(ma.Goal(t, int(msg.side), (msg.ball_pos.x, msg.ball_pos.y), msg.last_touch))
+            log.goals.append(ma.Goal(t, int(msg.side), (msg.ball_pos.x, msg.ball_pos.y), msg.last_touch,
+                                     msg.ball_pos.z))
         elif msgtype == MATCH_TOPICS["/sim_visual/kick"]:
             v = msg.velocity
             log.kicks.append(ma.Kick(t, msg.robot, int(msg.kind), (v.x, v.y, v.z), (msg.ball_pos.x, msg.ball_pos.y)))
@@ -232,11 +240,35 @@ def read_match(path: Path, progress: Callable[[int, int, float | None], None] | 
                     progress(done, total, builder.sim_time)
                     next_report = done * PROGRESS_STEPS // total + 1
             log = builder.finish()
+            log.goalies = _goalies(reader)
     except ReaderError as exc:
         raise MatchReportError(f"{path} is not a readable ROS 1 bag: {exc}") from exc
     for w in [*(f"{w}: not the expected type" for w in wrong), *builder.ignored]:
         print(f"match_report: warning: ignored {w}", file=sys.stderr)
     return log
+
+
+def _goalies(reader: Reader) -> dict[str, str]:
+    """Each team's goalie from the first ``GOALIE_SAMPLES`` StrategyInfo of every robot (the role it announced most
+    often); none without strategy topics (a bag of the simulator alone)."""
+    conns = [c for c in reader.connections if STRATEGY_TOPIC.match(c.topic) and c.msgtype == STRATEGY_TYPE]
+    if not conns:
+        return {}
+    typestore = build_typestore(conns[:1])
+    seen: dict[str, int] = {}
+    goalie: dict[str, int] = {}
+    for conn, _stamp_ns, raw in reader.messages(connections=conns):
+        match = STRATEGY_TOPIC.match(conn.topic)
+        assert match is not None
+        robot = match["robot"]
+        if seen.get(robot, 0) >= GOALIE_SAMPLES:
+            if all(n >= GOALIE_SAMPLES for n in seen.values()) and len(seen) == len({c.topic for c in conns}):
+                break
+            continue
+        seen[robot] = seen.get(robot, 0) + 1
+        if typestore.deserialize_ros1(raw, conn.msgtype).role == GOALIE_ROLE:
+            goalie[robot] = goalie.get(robot, 0) + 1
+    return ma.goalies_by_role(goalie)
 
 
 @dataclass(frozen=True)
@@ -289,7 +321,8 @@ def _print_progress(done: int, total: int, sim_time: float | None) -> None:
     print(f"  read {100 * done // total:3d} % ({done}/{total} messages{clock})", file=sys.stderr, flush=True)
 
 
-def format_summary(summary: ma.MatchSummary, bag: Path, out: Path, field_source: str = "") -> str:
+def format_summary(summary: ma.MatchSummary, bag: Path, out: Path, field_source: str = "",
+                   shots: match_shots.ShotReport | None = None) -> str:
     """Return the few lines a person reads first; ``field_source`` says where the field came from."""
     teams = summary.teams
     f = summary.world.field
@@ -304,10 +337,14 @@ def format_summary(summary: ma.MatchSummary, bag: Path, out: Path, field_source:
         ref = " - ".join(f"{t} {n}" for t, n in summary.referee_score.items())
         score += "  (referee agrees)" if summary.score_agrees else f"  (REFEREE DIFFERS: {ref})"
     lines.append(f"  score: {score}")
-    for g in summary.goals:
-        clock = f", half {g.half} at {g.game_time:.1f} s game time" if g.game_time is not None else ""
-        who = f"own goal by {g.goal.last_touch}" if g.own_goal else (g.goal.last_touch or "no touch")
-        lines.append(f"    goal at {g.goal.t:.1f} s for {g.team or '?'} ({who}{clock})")
+    if shots is not None:
+        lines += [f"    goal at {g.goal.goal.t:.1f} s: {line}"
+                  for g, line in zip(shots.goals, match_shots.goal_lines(shots))]
+    else:
+        for g in summary.goals:
+            clock = f", half {g.half} at {g.game_time:.1f} s game time" if g.game_time is not None else ""
+            who = f"own goal by {g.goal.last_touch}" if g.own_goal else (g.goal.last_touch or "no touch")
+            lines.append(f"    goal at {g.goal.t:.1f} s for {g.team or '?'} ({who}{clock})")
     for g in summary.goals_outside_play:
         lines.append(f"    not counted: ball in the goal at {'+x' if g.goal.side > 0 else '-x'} at {g.goal.t:.1f} s "
                      f"while play was stopped (last touch {g.goal.last_touch or 'nobody'})")
@@ -316,7 +353,14 @@ def format_summary(summary: ma.MatchSummary, bag: Path, out: Path, field_source:
     passes = summary.pass_counts()
     lines.append("  passes completed/tried: " + ", ".join(f"{t} {c['completed']}/{c['tried']}"
                                                            for t, c in passes.items()))
-    lines.append("  shots: " + ", ".join(f"{t} {n}" for t, n in summary.shot_counts().items()))
+    if shots is not None:
+        lines.append("  shots (on target; goal/saved/blocked/wide): " + ", ".join(
+            f"{t} {c['shots']} ({c['on_target']}; {c['goal']}/{c['saved']}/{c['blocked']}/{c['wide']})"
+            for t, c in shots.shot_counts().items()))
+        lines.append("  goals from: " + ", ".join(f"{k} {n}" for k, n in shots.cause_counts().items() if n)
+                     if shots.goals else "  goals from: no goal")
+    else:
+        lines.append("  shots: " + ", ".join(f"{t} {n}" for t, n in summary.shot_counts().items()))
     clashes = summary.collision_counts()
     lines.append(f"  collisions: {clashes['total']} ({clashes['per_minute']:.2f} per running minute): opponents "
                  f"{clashes['opponents']}" + "".join(f", {t}-{t} {n}" for t, n in clashes["same_team"].items()))
@@ -341,7 +385,7 @@ def format_summary(summary: ma.MatchSummary, bag: Path, out: Path, field_source:
         lines.append(f"    {team}: " + ", ".join(f"{r} {d:.1f}" for r, d in summary.distance_run.items()
                                                  if team_of(r) == team))
     lines += [f"  warning: {w}" for w in summary.warnings]
-    lines.append(f"  wrote report.json, heatmap.png, trajectories.png in {out}")
+    lines.append(f"  wrote {', '.join(REPORT_FILES)} in {out}")
     return "\n".join(lines)
 
 
@@ -381,10 +425,11 @@ def main(argv: list[str] | None = None) -> int:
         summary.warnings.insert(0, f"no world description in the bag ({WORLD_TOPIC}) and no --field: using the "
                                    f"default {world.name} field")
     out = args.out if args.out is not None else args.bag.parent
+    shots = match_shots.explain(summary, log)
     summary_json = summary.to_json()
     summary_json["field"].update(choice.to_json())
-    report = {"bag": str(args.bag), **summary_json,
-              "files": {"heatmap": "heatmap.png", "trajectories": "trajectories.png"}}
+    report = {"bag": str(args.bag), **summary_json, "shot_report": shots.to_json(),
+              "files": {"heatmap": "heatmap.png", "trajectories": "trajectories.png", "shots": "shots.png"}}
     run = read_run(args.bag)
     if run is not None:
         report["run"] = run
@@ -396,13 +441,15 @@ def main(argv: list[str] | None = None) -> int:
         match_plots.plot_trajectories(log.tracks, summary.teams, world.field, folder / "trajectories.png",
                                       teleport_step=summary.teleport_step,
                                       title=f"Robot trajectories ({args.bag.name})")
+        match_plots.plot_shot_map(shots.shots, summary.teams, world.field, folder / "shots.png",
+                                  title=f"Shot map ({args.bag.name})")
 
     try:
         write_report(out, report, draw)
     except MatchReportError as exc:
         print(f"match_report: error: {exc}", file=sys.stderr)
         return 2
-    print(format_summary(summary, args.bag, out, choice.describe()))
+    print(format_summary(summary, args.bag, out, choice.describe(), shots))
     if run is not None and run.get("ended") == "cut short":
         print(f"  CUT SHORT at sim {run.get('sim_time', 0.0):.1f} s: {run.get('reason')}")
     for event in (run or {}).get("events", []):
