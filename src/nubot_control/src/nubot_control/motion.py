@@ -19,7 +19,10 @@ Two trackers, chosen by ``MotionParams.tracker``:
 
 A robot holding the ball moves under the tighter ``dribble_speed`` and ``dribble_accel``. The
 heading is a rate-limited proportional loop in both. An obstacle is (x, y), a robot, or
-(x, y, clearance): keep the centre that far away.
+(x, y, clearance): keep the centre that far away. After either tracker the contact guard
+(``keep_clear``) takes out of the command what would bring the robot into contact with another
+robot: the speed towards each is at most what lets it stop ``contact_margin`` short of that robot's
+hull, so robots press and block but never drive into each other.
 """
 
 from __future__ import annotations
@@ -79,6 +82,39 @@ def sub_target(start: tuple[float, float], goal: tuple[float, float], obstacles:
         offset = keep * 1.2
         target = (ox + side * nx * offset, oy + side * ny * offset)
     return target
+
+
+def keep_clear(position: tuple[float, float], velocity: tuple[float, float], robots: Sequence[tuple[float, ...]],
+               min_distance: float, brake: float, latency: float) -> tuple[float, float]:
+    """``velocity`` [m/s] without what would bring the robot at ``position`` within ``min_distance`` [m] (centre to
+    centre) of a robot in ``robots`` (x, y): for each robot that the straight line of the velocity would pass closer
+    than ``min_distance``, the speed towards it is at most the speed from which it stops in the room left, braking at
+    ``brake`` [m/s^2] after ``latency`` [s]. A robot the line passes wide of, or one behind, is left alone; sideways
+    the velocity is kept. Two robots coming at each other so both brake, at twice ``brake`` together."""
+    vx, vy = velocity
+    bt = brake * latency
+    for _ in range(3):  # limiting towards one robot can add speed towards another: settle in a few rounds
+        changed = False
+        speed = math.hypot(vx, vy)
+        if speed < 1e-9:
+            break
+        for robot in robots:
+            dx, dy = robot[0] - position[0], robot[1] - position[1]
+            distance = math.hypot(dx, dy)
+            if distance < 1e-6:
+                continue
+            towards = (vx * dx + vy * dy) / distance
+            if towards <= 0.0 or abs(vx * dy - vy * dx) / speed >= min_distance:
+                continue  # going away, or the line passes wide of it
+            room = max(distance - min_distance, 0.0)
+            allowed = -bt + math.sqrt(bt * bt + 2.0 * brake * room)  # v * latency + v^2 / (2 brake) = room
+            if towards > allowed + 1e-9:
+                cut = towards - allowed
+                vx, vy = vx - cut * dx / distance, vy - cut * dy / distance
+                changed = True
+        if not changed:
+            break
+    return vx, vy
 
 
 class MotionController:
@@ -143,6 +179,10 @@ class MotionController:
                     math.hypot(self._waypoints[0][0] - me.x, self._waypoints[0][1] - me.y) < 0.3:
                 self._waypoints.pop(0)
             vx, vy = self._baseline(me, self._waypoints[0], obstacles, dt, limit, accel)
+        if p.contact_margin > 0.0:
+            robots = [o for o in obstacles if len(o) == 2]
+            vx, vy = keep_clear((me.x, me.y), (vx, vy), robots, 2.0 * self.robot_radius + p.contact_margin,
+                                p.contact_brake, p.contact_latency)
         self.velocity = (vx, vy)
         err = wrap_angle(heading - me.theta)
         w_want = max(-p.max_rot_speed, min(p.max_rot_speed, p.heading_gain * err))

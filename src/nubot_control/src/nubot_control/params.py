@@ -39,13 +39,21 @@ class MotionParams:
     position_gain: float = 2.5  # [1/s], velocity per metre of error near the target
     heading_gain: float = 4.0  # [1/s]
     clearance: float = 0.25  # kept free between two robots' hulls [m]
+    # The contact guard (``motion.keep_clear``), after either tracker: the speed towards another robot in the way is at
+    # most what lets this robot stop ``contact_margin`` short of its hull, braking at ``contact_brake`` after
+    # ``contact_latency`` (two robots in each other's way brake together: at most half the base's braking). 0 turns
+    # it off.
+    contact_margin: float = 0.08  # [m] between the hulls
+    contact_brake: float = 2.5  # [m/s^2], at most half the base's braking
+    contact_latency: float = 0.06  # [s] a command takes to act: a control cycle and the drive's response
 
     def __post_init__(self) -> None:
         require_positive(self, "max_speed", "max_accel", "max_lateral_accel", "max_rot_speed", "max_rot_accel",
                          "dribble_speed", "dribble_accel", "replan_tolerance", "planning_range", "position_gain",
                          "heading_gain")
         require_non_negative(self, "clearance", "keep_plan_deviation", "keep_plan_goal_shift", "keep_plan_goal_share",
-                             "keep_plan_time")
+                             "keep_plan_time", "contact_margin", "contact_latency")
+        require_positive(self, "contact_brake")
         if not 0.0 < self.plan_share <= 1.0:
             raise ValueError(f"plan_share must lie in (0, 1], got {self.plan_share}")
         if self.tracker not in TRACKERS:

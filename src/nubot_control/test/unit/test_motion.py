@@ -7,7 +7,7 @@ import pytest
 
 from nubot_common.geometry import Pose2D, rotate
 from nubot_common.world_description import WorldDescription
-from nubot_control.motion import MotionController, sub_target
+from nubot_control.motion import MotionController, keep_clear, sub_target
 from nubot_control.params import MotionParams
 
 P = MotionParams()
@@ -197,3 +197,45 @@ def test_keeping_plans_drives_like_replanning_every_cycle():
 def test_a_negative_keep_plan_parameter_is_refused(name):
     with pytest.raises(ValueError, match=name):
         MotionParams(**{name: -0.1})
+
+
+@pytest.mark.parametrize("tracker", TRACKERS)
+def test_a_robot_sent_onto_another_stops_short_of_contact(tracker):
+    """The target is the other robot's own spot: the contact guard stops it ``contact_margin`` short of the hull."""
+    other = (3.0, 0.0)
+    path, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(*other, 0.0), [other], seconds=5.0, tracker=tracker)
+    closest = min(math.dist((p.x, p.y), other) for p in path)
+    assert closest > 2 * ROBOT_RADIUS + 0.5 * P.contact_margin
+    assert closest < 2 * ROBOT_RADIUS + P.contact_margin + 0.1, "it does press up to the margin"
+    loose, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(*other, 0.0), [other], seconds=5.0, tracker=tracker,
+                     contact_margin=0.0)
+    assert min(math.dist((p.x, p.y), other) for p in loose) < 2 * ROBOT_RADIUS, "without the guard it drives in"
+
+
+def test_two_robots_driving_at_each_other_both_brake_and_never_touch():
+    """Each guards only its own command; together they brake in time, then slide past each other sideways."""
+    gap = 2 * ROBOT_RADIUS + P.contact_margin
+    a, b = np.array([0.0, 0.0]), np.array([6.0, 0.1])
+    va, vb = np.zeros(2), np.zeros(2)
+    closest, slowest = math.inf, math.inf
+    for _ in range(int(4.0 / DT)):
+        want_a = keep_clear(tuple(a), (3.0, 0.0), [tuple(b)], gap, P.contact_brake, P.contact_latency)
+        want_b = keep_clear(tuple(b), (-3.0, 0.0), [tuple(a)], gap, P.contact_brake, P.contact_latency)
+        for v, want in ((va, want_a), (vb, want_b)):  # the base: accelerates at 3, brakes at 5 m/s^2
+            dv = np.array(want) - v
+            limit = (5.0 if np.linalg.norm(want) < np.linalg.norm(v) else 3.0) * DT
+            v += dv * min(1.0, limit / max(np.linalg.norm(dv), 1e-12))
+        a, b = a + va * DT, b + vb * DT
+        closest, slowest = min(closest, float(np.linalg.norm(a - b))), min(slowest, float(np.linalg.norm(va)))
+    assert closest > 2 * ROBOT_RADIUS
+    assert slowest < 0.5, "they braked before meeting"
+
+
+def test_the_guard_leaves_sideways_passing_and_robots_behind_alone():
+    gap, brake, latency = 0.6, P.contact_brake, P.contact_latency
+    assert keep_clear((0.0, 0.0), (0.0, 2.0), [(0.7, 0.0)], gap, brake, latency) == (0.0, 2.0)  # sideways
+    assert keep_clear((0.0, 0.0), (3.0, 0.0), [(-0.7, 0.0)], gap, brake, latency) == (3.0, 0.0)  # behind
+    assert keep_clear((0.0, 0.0), (3.0, 0.0), [(2.0, 0.7)], gap, brake, latency) == (3.0, 0.0)  # the line passes wide
+    vx, vy = keep_clear((0.0, 0.0), (3.0, 1.0), [(0.8, 0.0)], gap, brake, latency)  # in the way, 0.2 m of room
+    assert vx == pytest.approx(-brake * latency + math.sqrt((brake * latency) ** 2 + 2 * brake * 0.2))
+    assert vy == 1.0
