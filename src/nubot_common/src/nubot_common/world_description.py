@@ -45,15 +45,16 @@ class BallBody:
 
     mass: float = 0.41  # [kg]
     radius: float = 0.11  # [m]
-    rolling_friction: float = 0.06  # rolling deceleration = rolling_friction * g
+    rolling_friction: float = 0.08  # rolling deceleration = rolling_friction * g (0.78 m/s^2 on artificial turf)
     ground_friction: float = 0.4  # sliding friction against the carpet
-    restitution: float = 0.5  # bounce off the ground, robots and posts
+    restitution: float = 0.6  # bounce off the ground (FIFA's turf rebound test)
     net_restitution: float = 0.3  # share of the ball's motion a goal net keeps per step of contact
+    body_restitution: float = 0.7  # bounce off robots, posts and walls
 
     def __post_init__(self) -> None:
         require_positive(self, "mass", "radius")
         require_non_negative(self, "rolling_friction", "ground_friction")
-        for name in ("restitution", "net_restitution"):
+        for name in ("restitution", "net_restitution", "body_restitution"):
             if not 0.0 <= getattr(self, name) <= 1.0:
                 raise ValueError(f"{name} must lie in [0, 1], got {getattr(self, name)}")
 

@@ -93,7 +93,10 @@ def chase_ball(state: TeamState, params: ControlParams) -> Intent:
         heading = math.atan2(ball.y - me.y, ball.x - me.x)
         tx, ty = ball.x - 0.38 * math.cos(heading), ball.y - 0.38 * math.sin(heading)
     near = dist < params.play.grab_distance + 0.3
-    return Intent(_facing(tx, ty, ball.x, ball.y), Action.CHASE, dribble=near)
+    # No faster at the ball than the ball handler keeps it (dribble_speed), braking for it in time.
+    m = params.motion
+    arrive = math.sqrt(m.dribble_speed ** 2 + 2.0 * m.max_accel * max(dist - params.play.grab_distance, 0.0))
+    return Intent(_facing(tx, ty, ball.x, ball.y), Action.CHASE, speed_limit=arrive, dribble=near)
 
 
 def _aim_at_goal(state: TeamState, params: ControlParams) -> tuple[float, float]:

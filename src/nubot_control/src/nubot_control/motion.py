@@ -17,7 +17,9 @@ Two trackers, chosen by ``MotionParams.tracker``:
 - ``baseline``: heads for the first sub-target around the obstacles at a speed limited by the
   distance to go and by an acceleration limit (the tracker team play started with).
 
-A robot holding the ball moves under the tighter ``dribble_speed`` and ``dribble_accel``. The
+A robot holding the ball moves under the tighter ``dribble_speed`` and ``dribble_accel``, and its
+command is scaled down to what the ball handler keeps (forwards ``dribble_speed``, backwards
+``dribble_back_speed``, sideways ``dribble_side_speed``, turning ``dribble_rot_speed``). The
 heading is a rate-limited proportional loop in both. An obstacle is (x, y), a robot, or
 (x, y, clearance): keep the centre that far away. After either tracker the contact guard
 (``keep_clear``) takes out of the command what would bring the robot into contact with another
@@ -40,6 +42,7 @@ from nubot_control.params import MotionParams
 from nubot_control.path_planning import Bounds, Disc, PlannerParams, Trajectory, plan
 
 _MAX_DETOURS = 3
+_IN_THE_WAY = 0.3  # a robot is in the way of a velocity whose line passes it closer than min_distance plus this [m]
 # A plan whose remaining path enters an obstacle's clearance by more than this is replaced [m]; the planner
 # itself leaves violations of a few millimetres (path_planning._TOLERANCE), which must not force a replan.
 _INTRUSION_TOLERANCE = 0.01
@@ -88,9 +91,10 @@ def keep_clear(position: tuple[float, float], velocity: tuple[float, float], rob
                min_distance: float, brake: float, latency: float) -> tuple[float, float]:
     """``velocity`` [m/s] without what would bring the robot at ``position`` within ``min_distance`` [m] (centre to
     centre) of a robot in ``robots`` (x, y): for each robot that the straight line of the velocity would pass closer
-    than ``min_distance``, the speed towards it is at most the speed from which it stops in the room left, braking at
-    ``brake`` [m/s^2] after ``latency`` [s]. A robot the line passes wide of, or one behind, is left alone; sideways
-    the velocity is kept. Two robots coming at each other so both brake, at twice ``brake`` together."""
+    than ``min_distance`` (and a margin: the other may move into it), the speed towards it is at most the speed from
+    which it stops in the room left, braking at ``brake`` [m/s^2] after ``latency`` [s]. A robot the line passes wide
+    of, or one behind, is left alone; sideways the velocity is kept. Two robots coming at each other so both brake, at
+    twice ``brake`` together."""
     vx, vy = velocity
     bt = brake * latency
     for _ in range(3):  # limiting towards one robot can add speed towards another: settle in a few rounds
@@ -104,10 +108,13 @@ def keep_clear(position: tuple[float, float], velocity: tuple[float, float], rob
             if distance < 1e-6:
                 continue
             towards = (vx * dx + vy * dy) / distance
-            if towards <= 0.0 or abs(vx * dy - vy * dx) / speed >= min_distance:
-                continue  # going away, or the line passes wide of it
+            wide = abs(vx * dy - vy * dx) / speed - min_distance  # how far the line passes outside min_distance
+            if towards <= 0.0 or wide >= _IN_THE_WAY:
+                continue  # going away, or the line passes wide of it (the other may move into it: a margin)
             room = max(distance - min_distance, 0.0)
             allowed = -bt + math.sqrt(bt * bt + 2.0 * brake * room)  # v * latency + v^2 / (2 brake) = room
+            if wide > 0.0:  # in the margin: less of the limit the wider the line passes, so the command stays smooth
+                allowed += (towards - allowed) * wide / _IN_THE_WAY if towards > allowed else 0.0
             if towards > allowed + 1e-9:
                 cut = towards - allowed
                 vx, vy = vx - cut * dx / distance, vy - cut * dy / distance
@@ -115,6 +122,19 @@ def keep_clear(position: tuple[float, float], velocity: tuple[float, float], rob
         if not changed:
             break
     return vx, vy
+
+
+def dribble_scale(bx: float, by: float, p: MotionParams) -> float:
+    """The factor (at most 1) that brings the body velocity (bx ahead, by left [m/s]) within what the ball handler
+    keeps: ``dribble_speed`` forwards, ``dribble_back_speed`` backwards, ``dribble_side_speed`` sideways."""
+    scale = 1.0
+    if bx > p.dribble_speed:
+        scale = p.dribble_speed / bx
+    elif bx < -p.dribble_back_speed:
+        scale = p.dribble_back_speed / -bx
+    if abs(by) > p.dribble_side_speed:
+        scale = min(scale, p.dribble_side_speed / abs(by))
+    return scale
 
 
 class MotionController:
@@ -183,12 +203,17 @@ class MotionController:
             robots = [o for o in obstacles if len(o) == 2]
             vx, vy = keep_clear((me.x, me.y), (vx, vy), robots, 2.0 * self.robot_radius + p.contact_margin,
                                 p.contact_brake, p.contact_latency)
+        bx, by = rotate(vx, vy, -me.theta)
+        if holding:
+            scale = dribble_scale(bx, by, p)
+            bx, by, vx, vy = bx * scale, by * scale, vx * scale, vy * scale
         self.velocity = (vx, vy)
         err = wrap_angle(heading - me.theta)
-        w_want = max(-p.max_rot_speed, min(p.max_rot_speed, p.heading_gain * err))
+        turn = p.dribble_rot_speed if holding else p.max_rot_speed
+        w_want = max(-turn, min(turn, p.heading_gain * err))
         self.w += max(-p.max_rot_accel * dt, min(p.max_rot_accel * dt, w_want - self.w))
+        self.w = max(-turn, min(turn, self.w))
         self.compute_time = time.perf_counter() - started
-        bx, by = rotate(vx, vy, -me.theta)
         return bx, by, self.w
 
     @property

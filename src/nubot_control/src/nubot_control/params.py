@@ -22,7 +22,10 @@ class MotionParams:
     max_lateral_accel: float = 2.0  # on curves: speed <= sqrt(a / curvature) [m/s^2], below max_accel
     max_rot_speed: float = 4.0  # [rad/s]
     max_rot_accel: float = 8.0  # [rad/s^2]
-    dribble_speed: float = 1.5  # while holding the ball [m/s]
+    dribble_speed: float = 1.5  # while holding the ball, forwards [m/s]
+    dribble_back_speed: float = 0.5  # ... backwards [m/s]
+    dribble_side_speed: float = 0.5  # ... sideways [m/s]
+    dribble_rot_speed: float = 2.5  # ... turning [rad/s]
     dribble_accel: float = 1.5  # while holding the ball [m/s^2]
     replan_tolerance: float = 0.3  # replan from the reference while this close to it, else from the robot [m]
     # A plan is kept (not replanned) while it still holds: its acceleration within the robot's limit, the robot
@@ -44,12 +47,14 @@ class MotionParams:
     # ``contact_latency`` (two robots in each other's way brake together: at most half the base's braking). 0 turns
     # it off.
     contact_margin: float = 0.08  # [m] between the hulls
-    contact_brake: float = 2.5  # [m/s^2], at most half the base's braking
-    contact_latency: float = 0.06  # [s] a command takes to act: a control cycle and the drive's response
+    contact_brake: float = 2.0  # [m/s^2], at most half the base's braking
+    contact_latency: float = 0.1  # [s] from seeing the other robot to braking: the percepts' age, a control cycle and
+    # the drive's response
 
     def __post_init__(self) -> None:
         require_positive(self, "max_speed", "max_accel", "max_lateral_accel", "max_rot_speed", "max_rot_accel",
-                         "dribble_speed", "dribble_accel", "replan_tolerance", "planning_range", "position_gain",
+                         "dribble_speed", "dribble_back_speed", "dribble_side_speed", "dribble_rot_speed",
+                         "dribble_accel", "replan_tolerance", "planning_range", "position_gain",
                          "heading_gain")
         require_non_negative(self, "clearance", "keep_plan_deviation", "keep_plan_goal_shift", "keep_plan_goal_share",
                              "keep_plan_time", "contact_margin", "contact_latency")

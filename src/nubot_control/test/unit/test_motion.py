@@ -235,7 +235,7 @@ def test_the_guard_leaves_sideways_passing_and_robots_behind_alone():
     gap, brake, latency = 0.6, P.contact_brake, P.contact_latency
     assert keep_clear((0.0, 0.0), (0.0, 2.0), [(0.7, 0.0)], gap, brake, latency) == (0.0, 2.0)  # sideways
     assert keep_clear((0.0, 0.0), (3.0, 0.0), [(-0.7, 0.0)], gap, brake, latency) == (3.0, 0.0)  # behind
-    assert keep_clear((0.0, 0.0), (3.0, 0.0), [(2.0, 0.7)], gap, brake, latency) == (3.0, 0.0)  # the line passes wide
+    assert keep_clear((0.0, 0.0), (3.0, 0.0), [(2.0, 1.0)], gap, brake, latency) == (3.0, 0.0)  # the line passes wide
     vx, vy = keep_clear((0.0, 0.0), (3.0, 1.0), [(0.8, 0.0)], gap, brake, latency)  # in the way, 0.2 m of room
     assert vx == pytest.approx(-brake * latency + math.sqrt((brake * latency) ** 2 + 2 * brake * 0.2))
     assert vy == 1.0

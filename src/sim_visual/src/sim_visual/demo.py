@@ -110,7 +110,9 @@ class DemoBehaviour:
                 # Stop short of the ball at the holding distance, facing it.
                 reach = max(dist - 0.40, 0.0)
                 target = (me.x + math.cos(heading) * reach, me.y + math.sin(heading) * reach)
-                velocity = self._goto(me, dt, target, heading, prm.max_speed)
+                # No faster at the ball than the ball handler keeps it (dribble_speed), braking for it in time.
+                arrive = math.sqrt(prm.dribble_speed ** 2 + 2.0 * prm.max_accel * max(dist - prm.grab_distance, 0.0))
+                velocity = self._goto(me, dt, target, heading, min(prm.max_speed, arrive))
                 near = dist < prm.grab_distance and abs(wrap_angle(heading - me.theta)) < math.radians(12)
                 return RobotCommand(velocity, dribble=near, ball_handle=1 if near else None), transitions
         if self.state == DemoState.MOVE_BALL:
@@ -118,7 +120,11 @@ class DemoBehaviour:
                 go(DemoState.ROTATE_BALL)
             else:
                 heading = math.atan2(spot[1] - me.y, spot[0] - me.x)
-                return RobotCommand(self._goto(me, dt, spot, heading, prm.dribble_speed), dribble=True), transitions
+                # Turn towards the spot before going there: the ball handler keeps the ball only at a low speed
+                # sideways (the simulator's hold_sideways_speed).
+                facing = max(0.0, math.cos(wrap_angle(heading - me.theta))) ** 4
+                return RobotCommand(self._goto(me, dt, spot, heading, prm.dribble_speed * facing), dribble=True), \
+                    transitions
         if self.state == DemoState.ROTATE_BALL:
             aim = math.atan2(goal[1] - me.y, goal[0] - me.x)
             velocity = self._goto(me, dt, (me.x, me.y), aim, prm.dribble_speed)

@@ -43,9 +43,20 @@ PLUGIN_UPPER_BOUNDS: Mapping[str, float] = MappingProxyType({
     "hold_distance": 1.0,  # [m]; farther, a held ball would pass through other robots
     "max_linear_speed": 10.0,  # [m/s]; twice the fastest MSL robots (about 5 m/s, chapter 1)
     "max_angular_speed": 30.0,  # [rad/s]; about 5 turns a second
+    "max_linear_accel": 50.0,  # [m/s^2]; about 5 g, far beyond what wheels on a carpet give
+    "max_linear_brake": 50.0,  # [m/s^2]
+    "max_angular_accel": 200.0,  # [rad/s^2]
+    "hold_forward_speed": 10.0,  # [m/s]; max_linear_speed's bound
+    "hold_backward_speed": 10.0,  # [m/s]
+    "hold_sideways_speed": 10.0,  # [m/s]
+    "hold_turn_rate": 30.0,  # [rad/s]; max_angular_speed's bound
+    "hold_slip_time": 5.0,  # [s]
     "command_timeout": 10.0,  # [s]
     "kick_max_speed": 15.0,  # [m/s]; above the hardest MSL kicks (about 12 m/s)
     "kick_recapture_delay": 5.0,  # [s]
+    "kick_direction_std_deg": 20.0,  # [deg]; a kicker that bad could not aim at a goal from 7 m
+    "kick_speed_std": 0.5,  # share of the speed
+    "lob_max_speed": 15.0,  # [m/s]; kick_max_speed's bound
     "lob_horizontal_speed": 15.0,  # [m/s]; a lob is a kick: kick_max_speed's bound
     "lob_max_flight_time": 5.0,  # [s]
     "lob_bar_margin": 1.0,  # [m]; the bar is 1 m high
@@ -107,9 +118,26 @@ class PluginParams:
     hold_distance: float = 0.43  # held ball centre ahead of the robot centre [m]
     max_linear_speed: float = 5.0  # commands faster than this are clamped [m/s]
     max_angular_speed: float = 12.0  # [rad/s]
+    # The base follows its command within these (world frame; docs/physical_figures.md): speeding up or turning
+    # aside at max_linear_accel, slowing down at max_linear_brake.
+    max_linear_accel: float = 3.5  # [m/s^2]
+    max_linear_brake: float = 5.0  # [m/s^2]
+    max_angular_accel: float = 10.0  # [rad/s^2]
+    # What a robot holding the ball can do (body frame; the ball handler's grip): moving faster than these for
+    # hold_slip_time loses the ball, which rolls on with the velocity it had.
+    hold_forward_speed: float = 2.2  # [m/s]
+    hold_backward_speed: float = 0.75  # [m/s]
+    hold_sideways_speed: float = 0.75  # [m/s]
+    hold_turn_rate: float = 4.0  # [rad/s]
+    hold_slip_time: float = 0.1  # [s]
     command_timeout: float = 0.5  # a robot with no command for this long stops [s]; 0 never
-    kick_max_speed: float = 12.0  # ball speed limit of a kick [m/s]
+    kick_max_speed: float = 10.0  # ball speed limit of a flat kick [m/s]
     kick_recapture_delay: float = 0.3  # the kicker cannot hold the ball again this soon [s]
+    # A kick's spread (standard deviations, one draw each from the simulator's generator): its direction, and its
+    # speed as a share of the speed asked for.
+    kick_direction_std_deg: float = 1.5  # [deg]
+    kick_speed_std: float = 0.05
+    lob_max_speed: float = 8.6  # ball speed limit of a lob (about 45 degrees up) [m/s]
     lob_horizontal_speed: float = 6.0  # preferred horizontal speed of a lob [m/s]
     lob_max_flight_time: float = 1.6  # longer lobs get a faster horizontal speed [s]
     lob_bar_margin: float = 0.15  # ball top passes this far under the bar [m]
@@ -119,8 +147,10 @@ class PluginParams:
     def __post_init__(self) -> None:
         require_positive(self, "dribble_distance", "hold_distance", "max_linear_speed", "max_angular_speed",
                   "kick_max_speed", "lob_horizontal_speed", "lob_max_flight_time", "lob_default_distance",
-                  "stuck_time")
-        require_non_negative(self, "command_timeout", "kick_recapture_delay", "lob_bar_margin")
+                  "stuck_time", "max_linear_accel", "max_linear_brake", "max_angular_accel", "hold_forward_speed",
+                  "hold_backward_speed", "hold_sideways_speed", "hold_turn_rate", "lob_max_speed")
+        require_non_negative(self, "command_timeout", "kick_recapture_delay", "lob_bar_margin", "hold_slip_time",
+                             "kick_direction_std_deg", "kick_speed_std")
         require_positive(self, "dribble_angle_deg")
         _require_at_most(self, PLUGIN_UPPER_BOUNDS)
 

@@ -1,14 +1,17 @@
 """The model plugin's rules, as pure functions (chapter 5.2 and Table 3).
 
-Provides: ``clamp_command`` (body-frame velocity limits, NaN/inf rejected),
-``dribble_condition``, ``held_ball_position``, ``ground_pass_velocity``,
-and ``lob_velocity`` (its flight: ``nubot_common.ball_flight``). Inputs and outputs are world-frame,
-SI units.
+Provides: ``clamp_command`` (body-frame velocity limits, NaN/inf rejected), ``limit_drive`` (the
+base's acceleration and braking), ``dribble_condition``, ``held_ball_position``, ``grip_holds``
+(whether the ball handler keeps the ball at a body velocity), ``ground_pass_velocity``, ``lob_velocity``
+(its flight: ``nubot_common.ball_flight``) and ``spread_kick`` (a kick's scatter). Inputs and outputs are
+world-frame, SI units, unless a name says body.
 """
 
 from __future__ import annotations
 
 import math
+
+import numpy as np
 
 from nubot_common.commands import BodyVelocity
 from nubot_common.field import FieldGeometry
@@ -32,6 +35,41 @@ def clamp_command(vx: float, vy: float, w: float, params: PluginParams) -> tuple
     if abs(w) > params.max_angular_speed:
         w, clamped = math.copysign(params.max_angular_speed, w), True
     return BodyVelocity(vx, vy, w), clamped
+
+
+def limit_drive(current: tuple[float, float, float], wanted: tuple[float, float, float], dt: float,
+                params: PluginParams) -> tuple[float, float, float]:
+    """The base's velocity (vx, vy [m/s], w [rad/s], world frame) one step of ``dt`` [s] after ``current`` on its way
+    to ``wanted``: the linear change at most ``max_linear_brake * dt`` while the speed falls, else
+    ``max_linear_accel * dt``; the turn rate's change at most ``max_angular_accel * dt``."""
+    vx, vy, w = current
+    dvx, dvy = wanted[0] - vx, wanted[1] - vy
+    change = math.hypot(dvx, dvy)
+    slowing = math.hypot(wanted[0], wanted[1]) < math.hypot(vx, vy)
+    step = (params.max_linear_brake if slowing else params.max_linear_accel) * dt
+    if change > step:
+        dvx, dvy = dvx * step / change, dvy * step / change
+    turn = params.max_angular_accel * dt
+    return vx + dvx, vy + dvy, w + max(-turn, min(turn, wanted[2] - w))
+
+
+def grip_holds(vx: float, vy: float, w: float, params: PluginParams) -> bool:
+    """Whether the ball handler keeps the ball while the robot moves at body velocity (vx ahead, vy left [m/s],
+    w [rad/s])."""
+    return (-params.hold_backward_speed <= vx <= params.hold_forward_speed and abs(vy) <= params.hold_sideways_speed
+            and abs(w) <= params.hold_turn_rate)
+
+
+def spread_kick(velocity: tuple[float, float, float], params: PluginParams,
+                rng: np.random.Generator) -> tuple[float, float, float]:
+    """A kick as it leaves the kicker: its horizontal direction turned by a normal draw of ``kick_direction_std_deg``,
+    its speed scaled by one of ``kick_speed_std`` (two draws from ``rng``, always, so the generator's sequence does
+    not depend on the parameters)."""
+    turn = math.radians(params.kick_direction_std_deg) * float(rng.standard_normal())
+    scale = max(0.0, 1.0 + params.kick_speed_std * float(rng.standard_normal()))
+    vx, vy, vz = velocity
+    c, s = math.cos(turn), math.sin(turn)
+    return scale * (c * vx - s * vy), scale * (s * vx + c * vy), scale * vz
 
 
 def dribble_condition(robot: Pose2D, ball_x: float, ball_y: float, ball_z: float,
@@ -85,7 +123,7 @@ def lob_velocity(robot: Pose2D, ball_x: float, ball_y: float, attack: int, field
     flight = distance / horizontal
     vz = (target_height - ball_radius + 0.5 * g * flight * flight) / flight
     speed = math.hypot(horizontal, vz)
-    if speed > params.kick_max_speed:
-        scale = params.kick_max_speed / speed  # the kicker's limit wins; the lob falls short
+    if speed > params.lob_max_speed:
+        scale = params.lob_max_speed / speed  # the kicker's limit wins; the lob falls short
         horizontal, vz = horizontal * scale, vz * scale
     return horizontal * cx, horizontal * cy, vz

@@ -41,10 +41,13 @@ from sim_visual.params import (
 from sim_visual.rules import (
     clamp_command,
     dribble_condition,
+    grip_holds,
     ground_pass_velocity,
     held_ball_position,
     held_ball_velocity,
+    limit_drive,
     lob_velocity,
+    spread_kick,
 )
 from sim_visual.sensing import RobotFlags, observe, observe_ball3d
 from sim_visual.sensors import RobotSensors
@@ -127,6 +130,9 @@ class RobotPlugin:
     ground_velocity: tuple[float, float] = (0.0, 0.0)  # low-passed displacement rate [m/s]
     stuck: bool = False
     kicked_at: float = -math.inf
+    drive: tuple[float, float, float] = (0.0, 0.0, 0.0)  # what the base gives now: vx, vy [m/s] (world), w [rad/s]
+    by_wheels: bool = False  # driven by wheel speeds (a drive model of its own gives their dynamics): no base limits
+    slipping_since: float | None = None  # holding the ball outside the grip's limits since [s]
 
 
 class Simulator:
@@ -235,6 +241,7 @@ class Simulator:
             raise SimVisualError(f"robot {name!r} needs a RobotState")
         self._check_robot_state(name, state)
         self.world.set_robot_state(name, state)
+        self.plugins[name].drive = (state.vx, state.vy, state.w)
 
     def _check_robot_state(self, name: str, s: RobotState) -> None:
         _require_finite(name, s)
@@ -272,11 +279,15 @@ class Simulator:
 
     def command_wheels(self, name: str, base: WheelBase, rim_speeds: np.ndarray) -> tuple[BodyVelocity, bool]:
         """Drive a robot by its wheels: the body velocity their rim speeds [m/s] give (least squares over the
-        wheels), clamped as a velocity command; returns it and whether it was clamped."""
+        wheels), clamped as a velocity command; returns it and whether it was clamped. The wheels' dynamics are the
+        caller's (a drive model such as ``nubot_hwcontrol.sim_drive``): the base's acceleration limits no longer
+        apply to this robot."""
         speeds = np.asarray(rim_speeds, dtype=float)
         if not np.all(np.isfinite(speeds)):
             raise SimVisualError(f"wheel speeds must be finite, got {speeds.tolist()}")
-        return self.command_velocity(name, *base.body_velocity(speeds))
+        command = self.command_velocity(name, *base.body_velocity(speeds))
+        self.plugins[name].by_wheels = True
+        return command
 
     def wheel_ground_speeds(self, name: str, base: WheelBase) -> np.ndarray:
         """The rim speed robot ``name``'s actual motion gives each of its wheels [m/s]."""
@@ -312,6 +323,7 @@ class Simulator:
         else:
             velocity = lob_velocity(pose, ball.x, ball.y, plugin.spawn.attack, self.config.field,
                                     self.config.ball.radius, self.config.physics.gravity, self.plugin_params)
+        velocity = spread_kick(velocity, self.plugin_params, self.rng)
         self._release()
         plugin.dribble_enabled = False
         plugin.no_capture_until = self.time + self.plugin_params.kick_recapture_delay
@@ -415,7 +427,13 @@ class Simulator:
                 command = BodyVelocity()
             if stuck_due:
                 self._update_stuck(plugin, command, self.world.robot_state(name), _STUCK_EVERY * dt)
-            self.world.drive_robot(name, command.vx, command.vy, command.w)
+            heading = self.world.heading(name)
+            c, s = math.cos(heading), math.sin(heading)
+            wanted = (c * command.vx - s * command.vy, s * command.vx + c * command.vy, command.w)
+            plugin.drive = wanted if plugin.by_wheels else limit_drive(plugin.drive, wanted, dt, self.plugin_params)
+            self.world.drive_robot(name, *plugin.drive, world_frame=True)
+        if self.holder is not None:
+            events += self._check_grip(self.holder, dt)
         self.world.set_ball_collides_with(self.holder)
         touched = self.world.step(dt)
         self.time = (self.steps + 1) * dt
@@ -456,6 +474,25 @@ class Simulator:
             plugin.stuck = self.time - plugin.slow_since >= self.plugin_params.stuck_time
         else:
             plugin.slow_since, plugin.stuck = None, False
+
+    def _check_grip(self, name: str, dt: float) -> list[SimEvent]:
+        """The holder moving faster than its ball handler can hold for ``hold_slip_time`` loses the ball: it rolls on
+        with the velocity it had, and the robot cannot take it again for ``kick_recapture_delay``."""
+        plugin, p = self.plugins[name], self.plugin_params
+        vx, vy, w = plugin.drive
+        heading = self.world.heading(name)
+        bx, by = rotate(vx, vy, -heading)
+        if grip_holds(bx, by, w, p):
+            plugin.slipping_since = None
+            return []
+        if plugin.slipping_since is None:
+            plugin.slipping_since = self.time
+        if self.time + dt - plugin.slipping_since < p.hold_slip_time - 1e-9:
+            return []
+        plugin.slipping_since = None
+        self._release()
+        plugin.no_capture_until = self.time + p.kick_recapture_delay
+        return [BallReleased(self.time, name)]
 
     def _try_capture(self, name: str) -> bool:
         if self.holder is not None:

@@ -202,9 +202,15 @@ class PhysicsWorld:
         body.setLinearVel((state.vx, state.vy, 0.0))
         body.setAngularVel((0.0, 0.0, state.w))
 
-    def drive_robot(self, name: str, vx: float, vy: float, w: float) -> None:
-        """Drive a robot for the next step with a velocity in its own frame [m/s] (x ahead) and yaw rate [rad/s],
-        as its wheels do (turned into the world frame by its heading now), upright on the carpet."""
+    def heading(self, name: str) -> float:
+        """A robot's heading now [rad] (read from ODE, not cached)."""
+        qw, qx, qy, qz = self._robot(name)[0].getQuaternion()
+        return math.atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
+
+    def drive_robot(self, name: str, vx: float, vy: float, w: float, world_frame: bool = False) -> None:
+        """Drive a robot for the next step with a velocity in its own frame [m/s] (x ahead; with ``world_frame``,
+        in the world's) and yaw rate [rad/s], as its wheels do (turned into the world frame by its heading now),
+        upright on the carpet."""
         body, _ = self._robot(name)
         self._robot_states.pop(name, None)
         # Every robot, every step: _yaw and rotate written out (ODE's quaternion order w, x, y, z).
@@ -216,7 +222,10 @@ class PhysicsWorld:
         x, y, z = body.getPosition()
         if z != 0.0:  # a contact lifted it: back on the carpet
             body.setPosition((x, y, 0.0))
-        body.setLinearVel((c * vx - s * vy, s * vx + c * vy, 0.0))
+        if world_frame:
+            body.setLinearVel((vx, vy, 0.0))
+        else:
+            body.setLinearVel((c * vx - s * vy, s * vx + c * vy, 0.0))
         body.setAngularVel((0.0, 0.0, w))
 
     # --- ball -------------------------------------------------------------------------
@@ -302,7 +311,7 @@ class PhysicsWorld:
                 elif pair == {"ball", "net"}:
                     table[a, b] = 1.0, 0.0, _BALL_NET
                 elif "ball" in pair:  # robots, posts, walls
-                    table[a, b] = robot.friction, ball.restitution, _BALL_ROBOT if "robot" in pair else _OTHER
+                    table[a, b] = robot.friction, ball.body_restitution, _BALL_ROBOT if "robot" in pair else _OTHER
                 else:  # robot against robot, post, net or wall
                     table[a, b] = robot.friction, 0.0, _OTHER
         return table

@@ -9,7 +9,7 @@ from nubot_common.geometry import Pose2D
 from nubot_common.percepts import BallPercept, RobotReport, RobotView
 from sim_visual.demo import DemoBehaviour, DemoParams, DemoState
 from sim_visual.episode import run_demo_episode
-from sim_visual.params import NoiseParams
+from sim_visual.params import NoiseParams, PluginParams
 
 
 def seen(t, ball, holding):
@@ -24,9 +24,12 @@ def demo():
 ORDER = ["CHASE_BALL", "DRIBBLE_BALL/MOVE_BALL", "DRIBBLE_BALL/ROTATE_BALL", "KICK_BALL", "RESET", "HOME"]
 
 
+EXACT_KICKS = PluginParams(kick_direction_std_deg=0.0, kick_speed_std=0.0)  # a kick without spread always scores
+
+
 @pytest.mark.parametrize("shot", ["lob", "ground"])
 def test_demo_runs_the_state_machine_and_scores(make_sim, shot):
-    sim = make_sim(robots=(("nubot1", -2.0, 0.0, 0.0),), ball=(1.0, 2.0))
+    sim = make_sim(robots=(("nubot1", -2.0, 0.0, 0.0),), ball=(1.0, 2.0), plugin=EXACT_KICKS)
     log = run_demo_episode(sim, "nubot1", DemoParams(shot=shot), 60.0)
     states = [log.transitions[0][1]] + [t[2] for t in log.transitions]
     assert states == ORDER
@@ -64,7 +67,7 @@ def test_demo_losing_the_ball_goes_back_to_chasing():
 
 
 def test_demo_with_noisy_perception_still_scores(make_sim):
-    sim = make_sim(robots=(("nubot1", -2.0, 0.0, 0.0),), ball=(-4.0, -3.0),
+    sim = make_sim(robots=(("nubot1", -2.0, 0.0, 0.0),), ball=(-4.0, -3.0), plugin=EXACT_KICKS,
                    noise=NoiseParams(position_std=0.05, velocity_std=0.1, self_position_std=0.02, heading_std=0.01))
     log = run_demo_episode(sim, "nubot1", DemoParams(), 60.0)
     assert len(log.goals) == 1

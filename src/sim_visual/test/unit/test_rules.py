@@ -78,7 +78,7 @@ def test_ground_pass_has_the_strength_as_speed_in_the_plane():
         ground_pass_velocity(0.0, 0, P)
 
 
-@pytest.mark.parametrize("start_x,start_y,heading", [(3.0, 0.0, 0.0), (0.0, 1.0, -0.05), (-2.0, -2.0, 0.12)])
+@pytest.mark.parametrize("start_x,start_y,heading", [(3.0, 0.0, 0.0), (4.0, 1.0, -0.05), (2.5, -1.0, 0.12)])
 def test_lob_crosses_the_goal_line_between_posts_under_the_bar(start_x, start_y, heading):
     field = FieldGeometry()
     robot = Pose2D(start_x - P.hold_distance * math.cos(heading), start_y - P.hold_distance * math.sin(heading),
@@ -92,9 +92,18 @@ def test_lob_crosses_the_goal_line_between_posts_under_the_bar(start_x, start_y,
     assert height + R == pytest.approx(field.goal_height - P.lob_bar_margin, abs=1e-6)
     y_at_line = start_y + vy / vx * (field.half_length - start_x)
     assert field.is_in_goal_mouth(y_at_line, height, R)
-    assert math.hypot(horizontal, vz) <= P.kick_max_speed + 1e-9
+    assert math.hypot(horizontal, vz) <= P.lob_max_speed + 1e-9
     # Past the apex when it reaches the line: the ball comes down into the goal.
     assert vz - 9.8 * distance / horizontal < 0.0
+
+
+def test_a_lob_from_beyond_the_kickers_reach_falls_short():
+    """At most lob_max_speed (8.6 m/s, about 45 degrees up): a lob from 11 m out lands before the goal."""
+    field = FieldGeometry()
+    vx, vy, vz = lob_velocity(Pose2D(-2.43, 0.0, 0.0), -2.0, 0.0, 1, field, R, -9.8, P)
+    assert math.hypot(vx, vy, vz) == pytest.approx(P.lob_max_speed)
+    landing = vx * 2.0 * vz / 9.8  # back at the height it started from
+    assert landing < field.half_length + 2.0
 
 
 def test_lob_for_a_team_attacking_minus_x():

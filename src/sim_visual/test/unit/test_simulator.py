@@ -18,7 +18,8 @@ def test_body_velocity_moves_the_robot_the_expected_distance(make_sim, run):
         run(sim, 0.005)
     state = sim.world.robot_state("nubot1")
     assert state.x == pytest.approx(0.0, abs=1e-6)
-    assert state.y == pytest.approx(2.0, abs=0.02), "Vx is along the robot heading (+y here)"
+    ramp = 2.0 ** 2 / (2.0 * sim.plugin_params.max_linear_accel)  # what the base loses getting up to speed
+    assert state.y == pytest.approx(2.0 - ramp, abs=0.02), "Vx is along the robot heading (+y here)"
 
 
 def test_lateral_and_rotational_velocity(make_sim, run):
@@ -26,15 +27,17 @@ def test_lateral_and_rotational_velocity(make_sim, run):
     sim.command_velocity("nubot1", 0.0, 1.0, 1.0)
     run(sim, 0.5)
     state = sim.world.robot_state("nubot1")
-    assert state.theta == pytest.approx(0.5, abs=0.01)
-    assert state.y > 0.45 and state.x < 0.0, "Vy is leftward in the body frame, which turns with the robot"
+    assert state.theta == pytest.approx(0.5 - 1.0 / (2.0 * sim.plugin_params.max_angular_accel), abs=0.01)
+    assert state.y > 0.3 and state.x < 0.0, "Vy is leftward in the body frame, which turns with the robot"
 
 
 def test_command_timeout_stops_a_robot_nobody_drives(make_sim, run):
     sim = make_sim()
     sim.command_velocity("nubot1", 1.0, 0.0, 0.0)
     run(sim, 2.0)
-    assert sim.world.robot_state("nubot1").x == pytest.approx(0.5, abs=0.02)
+    p = sim.plugin_params  # 0.5 s at 1 m/s, less the ramp up, and the way it takes to brake
+    assert sim.world.robot_state("nubot1").x == pytest.approx(
+        0.5 - 1.0 / (2.0 * p.max_linear_accel) + 1.0 / (2.0 * p.max_linear_brake), abs=0.02)
 
 
 def test_robots_push_each_other_and_do_not_overlap(make_sim, run):
@@ -418,7 +421,7 @@ def test_a_robot_state_read_again_shows_every_change(make_sim, run):
     assert astuple(sim.world.robot_state("nubot1")) == pytest.approx((-1.0, 1.0, 0.3, 0.0, 0.0, 0.0))
     sim.command_velocity("nubot1", 1.0, 0.0, 0.0)
     run(sim, 0.1)
-    assert sim.world.robot_state("nubot1").x > -0.95
+    assert sim.world.robot_state("nubot1").x > -0.99
     ball = sim.world.ball_state()
     sim.set_model_state(sim.config.ball_name, BallState(1.0, 1.0, 0.11, 0.5, 0.0, 0.0))
     assert sim.world.ball_state() != ball and sim.world.ball_state().x == 1.0

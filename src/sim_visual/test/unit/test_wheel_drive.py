@@ -16,7 +16,8 @@ def test_wheel_speeds_move_the_robot_as_the_body_velocity_they_mean(make_sim, ru
         sim.command_wheels("nubot1", layout, layout.wheel_speeds(1.0, 0.5, 0.0))
         run(sim, 0.1)
     state = sim.world.robot_state("nubot1")
-    # heading +y: body forward is world +y, body left is world -x
+    # heading +y: body forward is world +y, body left is world -x; the wheels' dynamics are their drive's, so the base
+    # follows them at once
     assert (state.x, state.y) == pytest.approx((-0.5, 1.0), abs=0.05)
     assert sim.wheel_ground_speeds("nubot1", layout) == pytest.approx(layout.wheel_speeds(1.0, 0.5, 0.0), abs=0.02)
 

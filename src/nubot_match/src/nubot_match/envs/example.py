@@ -31,6 +31,7 @@ class ScriptedAttacker:
     speed: float = 2.5  # cruise speed [m/s]
     carry_speed: float = 1.5  # speed with the ball [m/s]
     turn_gain: float = 4.0  # turn rate per radian of heading error [1/s]
+    carry_turn: float = 2.5  # turn rate limit with the ball: the ball handler keeps it only so far [rad/s]
     position_gain: float = 2.0  # speed per metre to the ball when close [1/s]
     take_distance: float = 1.0  # ball handler on within this distance of the ball [m]
     shot_range: float = 4.5  # kick from this close to the goal [m]
@@ -47,7 +48,8 @@ class ScriptedAttacker:
             distance = math.hypot(tx - x, ty - y)
             kick = distance < self.shot_range and abs(error) < self.aim_tolerance
             vx = self.carry_speed if distance >= self.shot_range and abs(error) < 0.5 else 0.0
-            return self._action(vx, 0.0, self.turn_gain * error, 1.0, 1.0 if kick else 0.0)
+            turn = max(-self.carry_turn, min(self.carry_turn, self.turn_gain * error))
+            return self._action(vx, 0.0, turn, 1.0, 1.0 if kick else 0.0)
         dx, dy = float(obs[_I["ball_dx"]]), float(obs[_I["ball_dy"]])
         distance = math.hypot(dx, dy)
         error = wrap_angle(math.atan2(dy, dx) - theta)
