@@ -26,14 +26,15 @@ from nubot_tools import match_analysis as ma
 from nubot_tools import match_report
 from nubot_tools.processes import RosMaster, wait_until
 
-HALF_SECONDS = 6.0
-SEED = 2  # a goal for each team (with the engine of this writing)
+HALF_SECONDS = 10.0
+SEED = 0  # kicks, and a goal the referee disallows (with the engine of this writing)
 TEAM_POSES = [{"x": -8.4, "y": 0.0}, {"x": -1.0, "y": 0.5}]  # a goalie and a field player (team frame [m])
 MATCH_TOPICS = {"/clock", "/sim_visual/model_states", "/sim_visual/world_description", "/referee/state",
                 "/nubot/receive_from_coach", "/rival/receive_from_coach"}
 ROBOT_TOPICS = ("omnivision/OmniVisionInfo", "worldmodel/worldmodelinfo", "nubotcontrol/strategy",
                 "nubotcontrol/velcmd")
-EVENT_TOPICS = {"/sim_visual/goal", "/sim_visual/kick", "/sim_visual/ball_touch"}  # only when they happen
+EVENT_TOPICS = {"/sim_visual/goal", "/sim_visual/kick", "/sim_visual/ball_touch", "/sim_visual/ball_holder",
+                "/referee/foul"}  # only when they happen
 
 
 @pytest.fixture(scope="module")
@@ -82,9 +83,10 @@ def test_report_of_the_bag_agrees_with_the_match_log(played, tmp_path):
     assert report["score_agrees"]
     assert report["end_s"] == pytest.approx(match.time, abs=0.02)
     for key in ("goals", "goals_outside_play", "passes", "shots", "kicks", "kicks_outside_play", "referee_events",
-                "coach_commands", "possession", "distance_run_m", "running_time_s"):
+                "coach_commands", "possession", "distance_run_m", "running_time_s", "fouls", "referee_calls"):
         assert _close_to(report[key], direct[key]), (key, report[key], direct[key])
     assert report["kicks"], "the match should have kicks to compare"
+    assert [c["kind"] for c in report["referee_calls"]] == ["goal_disallowed"], "a call to compare"
     assert len(report["referee_events"]) >= 4  # both halves begin and end
     assert report["collisions"]["total"] == direct["collisions"]["total"]
 

@@ -185,10 +185,12 @@ def test_the_match_env_ends_at_full_time_and_rewards_the_goal_difference():
         obs, rewards, terminations, truncations, infos = env.step(dict.fromkeys(env.agents, still))
         totals = {a: totals[a] + rewards[a] for a in totals}
         if not placed and obs["nubot1"][env.observation_layout("nubot1").index("running")] == 1.0:
-            ball = env.match.config.world.ball  # rolling into the goal at +x (nubot attacks it), past the goalie
+            # rolling into the goal at -x (rival attacks it; nubot kicked off, so a goal straight from its kick-off
+            # would not count), past the goalie
+            ball = env.match.config.world.ball
             env.match.sim.set_model_state(env.match.config.world.ball_name,
-                                          BallState(8.7, 0.9, ball.radius, 3.0, 0.0, 0.0))
+                                          BallState(-8.7, 0.9, ball.radius, -3.0, 0.0, 0.0))
             placed = True
     assert placed and all(terminations.values()) and not any(truncations.values())
-    assert totals == {"nubot1": 1.0, "rival1": -1.0}
-    assert infos["nubot1"]["score"] == (1, 0) and infos["rival1"]["score"] == (0, 1)
+    assert totals == {"nubot1": -1.0, "rival1": 1.0}
+    assert infos["nubot1"]["score"] == (0, 1) and infos["rival1"]["score"] == (1, 0)

@@ -59,9 +59,19 @@ def test_each_shot_outcome_follows_the_first_thing_that_happens_to_it():
         (25.0, "wide", "nubot2", True),  # a teammate got it
         (30.0, "goal", "", True)]  # a defender deflected it in: still the shot's goal
     assert report.shot_counts()["nubot"] == {"shots": 6, "on_target": 5, "goal": 1, "saved": 1, "blocked": 1,
-                                             "wide": 3}
+                                             "wide": 3, "disallowed": 0}
     anatomy, = report.goals
     assert (anatomy.scorer, anatomy.own_goal, anatomy.shot.t) == ("nubot3", False, 30.0)
+
+
+def test_a_shot_into_the_goal_the_referee_disallowed_is_no_goal():
+    calls = [ma.Call(5.53, "goal_disallowed", "nubot", "nubot3", "goal kick for rival", (9.2, 0.0), "RC-10.1.1")]
+    log = ma.MatchLog(tracks=dict(TRACKS), kicks=[shot_at_goal(5.0)], goals=[goal(5.5)], calls=calls,
+                      referee=[state(0.0, False), state(1.0, True)], start=0.0, end=60.0)
+    summary = ma.analyse(log, WORLD)
+    report = match_shots.explain(summary, log)
+    assert summary.score == {"nubot": 0, "rival": 0} and len(summary.goals_disallowed) == 1
+    assert [s.outcome for s in report.shots] == ["disallowed"] and report.goals == []
 
 
 def test_kicks_far_wide_or_backwards_are_passes_not_shots():

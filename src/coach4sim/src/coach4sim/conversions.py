@@ -1,7 +1,7 @@
 """Conversions between ROS messages and the coach's core types (the only place that knows both).
 
 Requires: generated ``nubot_common`` messages, ``genpy`` (no rospy).
-Provides: ``game_state_msg`` (GameState),
+Provides: ``game_state_msg`` (GameState), ``referee_call_msg`` (RefereeCall: a foul or another call),
 ``score_view`` (GameState -> ``console.ScoreView``), ``world_from_model_states``
 (ModelStates -> ball centre and robot positions, world frame [m]), ``ball_placement``
 (a ModelState putting the ball at rest on the carpet) and ``watch_view``
@@ -13,11 +13,12 @@ the opponents it sees). CoachInfo and WorldModelInfo are ``nubot_common.conversi
 from __future__ import annotations
 
 from coach4sim.console import ScoreView, WatchView
+from coach4sim.fouls import RefereeCall as Call
 from coach4sim.game import GameStateData
 from coach4sim.refbox import BallSnapshot, RobotSnapshot
 from nubot_common import NubotCommonError
 from nubot_common.conversions import stamp, world_state
-from nubot_common.msg import GameState, ModelState, ModelStates, StrategyInfo, WorldModelInfo
+from nubot_common.msg import GameState, ModelState, ModelStates, Point3d, RefereeCall, StrategyInfo, WorldModelInfo
 from nubot_common.naming import parse_robot_name
 from nubot_common.team_play import Role
 from nubot_common.world_state import BallSource, ObstacleLabel
@@ -28,6 +29,14 @@ def game_state_msg(state: GameStateData, t: float) -> GameState:
                     match_mode=bytes(int(m) for m in state.match_mode), half=state.half,
                     game_time=state.game_time, running=state.running, last_event=state.last_event)
     msg.header.stamp = stamp(t)
+    return msg
+
+
+def referee_call_msg(call: Call) -> RefereeCall:
+    msg = RefereeCall(kind=call.kind, team=call.team, robot=call.robot, restart=call.restart, rule=call.rule,
+                      text=call.text)
+    msg.header.stamp = stamp(call.time)
+    msg.position = Point3d(call.position[0], call.position[1], 0.0)
     return msg
 
 

@@ -25,10 +25,12 @@ COACH_PERIODS = (0.005, 10.0)  # CoachInfo at most 200 times a second and at lea
 
 @dataclass(frozen=True)
 class TeamSpec:
-    """A team: its robots are named ``<prefix>1`` ... ``<prefix>5``; ``attack`` 1 attacks the goal at +x."""
+    """A team: its robots are named ``<prefix>1`` ... ``<prefix>5``; ``attack`` 1 attacks the goal at +x; ``goalie``
+    is the AgentID of its goalkeeper."""
 
     prefix: str
     attack: int = 1
+    goalie: int = 1
 
     def __post_init__(self) -> None:
         try:
@@ -37,6 +39,8 @@ class TeamSpec:
             raise ValueError(str(exc)) from None
         if self.attack not in (1, -1):
             raise ValueError(f"team {self.prefix!r}: attack must be 1 or -1, got {self.attack}")
+        if not 1 <= self.goalie <= 20:
+            raise ValueError(f"team {self.prefix!r}: goalie must be an AgentID 1..20, got {self.goalie}")
 
 
 DEFAULT_TEAMS = (TeamSpec("nubot", 1), TeamSpec("rival", -1))
@@ -59,7 +63,9 @@ class RefereeParams:
 
     world: WorldDescription = dc_field(default_factory=WorldDescription)  # the field, the ball
     setup_time: float = 4.0  # a restart command, then STARTROBOT this much later [s]
-    restart_timeout: float = 12.0  # after STARTROBOT the restart team must play the ball within this [s]
+    set_piece_time: float = 7.0  # after STARTROBOT the restart team has this long to play the ball; then the
+    # opponents may go for it (RC-13: no stop, a slow_restart call) [s]
+    restart_timeout: float = 20.0  # a restart nobody played this long after STARTROBOT: dropped ball (game stuck) [s]
     in_play_distance: float = 0.5  # the ball moved this far from where it was placed: the restart is taken [m]
     stuck_time: float = 5.0  # a ball contested this long without moving is dropped [s]
     stuck_distance: float = 0.3  # "not moving": stays within this distance [m]
@@ -72,10 +78,23 @@ class RefereeParams:
     corner_inset: float = 0.25  # corner-kick ball centre this far inside both lines [m]
     goal_kick_distance: float = 1.0  # goal-kick ball this far in front of the goal-area corner [m]
     restart_margin: float = 1.0  # throw-in x and dropped balls stay this far inside the lines [m]
+    # Fouls (coach4sim.fouls, docs/rules.md); fouls: false calls none of them.
+    fouls: bool = True
+    carry_distance: float = 3.0  # the ball may be kept this far from where it was caught (RC-12.0.1) [m]
+    release_distance: float = 0.7  # a release is seen once the ball is this far from the robot's centre [m]
+    charge_speed: float = 1.0  # coming into contact with an opponent faster than this is charging (RC-12.3.2) [m/s]
+    push_speed: float = 0.2  # in contact, moving towards the opponent faster than this ... [m/s]
+    push_time: float = 1.0  # ... this long is pushing [s]
+    area_time: float = 10.0  # a robot may stay this long in a penalty area (RC-12.3.4, RC-12.3.5) [s]
+    area_robots: int = 1  # this many field robots of a team in its own penalty area, attackers in the other [1]
 
     def __post_init__(self) -> None:
         require_positive(self, "setup_time", "restart_timeout", "in_play_distance", "stuck_time",
-                  "stuck_distance", "stuck_radius", "half_duration")
+                  "stuck_distance", "stuck_radius", "half_duration", "set_piece_time", "carry_distance",
+                  "release_distance", "charge_speed", "push_time", "area_time")
+        require_non_negative(self, "push_speed")
+        if self.area_robots < 1:
+            raise ValueError(f"area_robots must be at least 1, got {self.area_robots}")
         require_non_negative(self, "half_time_break", "throw_in_inset", "corner_inset", "goal_kick_distance",
                       "restart_margin")
         if self.halves < 1:

@@ -24,12 +24,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import Enum
 
+from coach4sim.fouls import FoulWatch, GoalCheck, RefereeCall, restart_spot
 from coach4sim.game import GameController, half_name
 from coach4sim.params import RefereeParams
 from nubot_common.match_mode import MatchMode, parse_match_mode
+from nubot_common.naming import team_of
 
 
 @dataclass(frozen=True)
@@ -51,6 +53,7 @@ class WorldSnapshot:
     goals: tuple[GoalSeen, ...] = ()  # goals since the previous snapshot
     kicks: tuple[str, ...] = ()  # robots that kicked the ball since the previous snapshot
     touches: tuple[str, ...] = ()  # robots that became the last to touch it since the previous snapshot
+    holder: str = ""  # the robot whose ball handler holds the ball ("" none)
 
 
 @dataclass(frozen=True)
@@ -59,6 +62,7 @@ class RefereeDecision:
     ball: tuple[float, float] | None  # place the ball here, at rest (world frame [m]); None leaves it
     event: str  # the decision in words
     switch_ends: bool = False  # the teams have changed ends: every robot now attacks the other goal
+    calls: tuple[RefereeCall, ...] = ()  # fouls and other calls made (their restart filled in)
 
 
 class Phase(Enum):
@@ -94,6 +98,10 @@ class AutomaticReferee:
         self._stuck_since: tuple[float, float, float] | None = None  # (x, y, t) of a contested, still ball
         self._between_halves = True  # before the match or in a half-time break (also when stopped there)
         self._last_ball: tuple[float, float] | None = None  # where the ball was at the latest update
+        self._slow_called = False  # PLAY: the set piece was not taken in time (called once)
+        self._set_piece_deadline = 0.0  # PLAY: the restart team must have played the ball by then [s]
+        self.fouls = FoulWatch(params)
+        self.goal_check = GoalCheck()
 
     # --- the rules ----------------------------------------------------------------------------
     def update(self, snap: WorldSnapshot) -> RefereeDecision | None:
@@ -113,6 +121,8 @@ class AutomaticReferee:
     def _judge(self, snap: WorldSnapshot) -> RefereeDecision | None:
         p, f = self.params, self.params.field
         x, y, z = snap.ball
+        for robot in (*snap.touches, *snap.kicks):
+            self.goal_check.touched(robot, snap.robots.get(robot))
         if self._replaced is not None:  # the ball was just put back: judge it once the simulator shows it there
             rx, ry, until = self._replaced
             if math.hypot(x - rx, y - ry) > p.in_play_distance / 2.0 and snap.time < until:
@@ -122,6 +132,11 @@ class AutomaticReferee:
         goal_text = ""
         if goal_side is not None:
             toucher = snap.goals[0].last_touch if snap.goals and snap.goals[0].last_touch else snap.last_touch
+            team = self.game.team_attacking(goal_side)
+            own_goal = bool(team and toucher and self.game.team_of_robot(toucher) not in (None, team))
+            reason, rule = self.goal_check.disallowed(team, goal_side, own_goal) if team else ("", "")
+            if reason:
+                return self._disallow(snap, team or "", goal_side, toucher, reason, rule)
             scorer = self.game.goal(goal_side)
             goal_text = (f"goal for {scorer or 'the absent opponents'} in the goal at {_goal_name(goal_side)} "
                          f"(last touch {toucher or 'nobody'}), score {self.game.score_text()}")
@@ -135,11 +150,50 @@ class AutomaticReferee:
             return self._ball_out_over_side_line(snap)
         if over_goal > 0.0:
             return self._ball_out_over_goal_line(snap)
+        if p.fouls:
+            call = self.fouls.update(snap.time, (x, y), snap.robots, snap.holder, (*snap.touches, *snap.kicks),
+                                     [t.spec for t in self.game.teams])
+            if call is not None:
+                return self._foul(snap.time, call)
         if self._ball_ref is None:
             self._ball_ref = (x, y)
         if self._pending:
             return self._check_restart_taken(snap)
         return self._check_stuck(snap)
+
+    def _disallow(self, snap: WorldSnapshot, team: str, side: int, toucher: str, reason: str,
+                  rule: str) -> RefereeDecision:
+        """A goal that does not count: a kick-off for the other team after one straight from the kick-off
+        (RC-8.4.1), else a goal kick for the defenders."""
+        f, p = self.params.field, self.params
+        robot = next((r for r in reversed(self.goal_check.touchers) if team_of(r) == team), toucher)
+        call = RefereeCall("goal_disallowed", team, robot, (snap.ball[0], snap.ball[1]), rule, reason,
+                           time=snap.time)
+        if rule == "RC-8.4.1":
+            decision = self._restart(snap.time, -side, MatchMode.OUR_KICKOFF, (0.0, 0.0),
+                                     f"no goal ({rule}): {reason}: ")
+        else:
+            spot = (side * (f.half_length - f.goal_area_length - p.goal_kick_distance),
+                    (1 if snap.ball[1] >= 0.0 else -1) * f.goal_area_width / 2.0)
+            decision = self._restart(snap.time, -side, MatchMode.OUR_GOALKICK, spot, f"no goal ({rule}): {reason}: ")
+        return replace(decision, calls=(replace(call, restart=decision.event.rsplit(": ", 1)[-1]),))
+
+    def _foul(self, now: float, call: RefereeCall) -> RefereeDecision:
+        """A free kick for the other team where the foul happened (from the nearest restart point out of a penalty
+        area); a penalty kick for pushing or charging in the offender's own penalty area (RC-12.2)."""
+        p = self.params
+        other = next((t.spec for t in self.game.teams if t.spec.prefix != call.team), None)
+        words = f"{call.kind.replace('_', ' ')} by {call.robot or call.team} ({call.rule}): {call.text}"
+        if other is None:  # a match of one team: play goes on from a dropped ball
+            decision = self._drop_ball(now, call.position, f"{words}: ")
+        elif call.penalty:
+            mark = other.attack * (p.field.half_length - p.field.penalty_mark_distance)
+            decision = self._restart(now, other.attack, MatchMode.OUR_PENALTY, (mark, 0.0), f"{words}: ")
+        else:
+            bx, by = self._last_ball or call.position
+            spot = restart_spot(bx, by, p.field, p.restart_margin)
+            decision = self._restart(now, other.attack, MatchMode.OUR_FREEKICK, spot, f"{words}: ")
+        return replace(decision, calls=(replace(call, time=now, restart=decision.event.rsplit(": ", 1)[-1]),))
 
     def _goal_by_geometry(self, x: float, y: float, z: float) -> int | None:
         """A goal the simulator's event has not reported yet: the ball lies in a goal, by the simulator's own test
@@ -179,14 +233,19 @@ class AutomaticReferee:
         played = any(team is not None and self.game.team_of_robot(r) == team for r in (*snap.kicks, *snap.touches))
         ref = self._ball_ref or (snap.ball[0], snap.ball[1])
         moved = math.hypot(snap.ball[0] - ref[0], snap.ball[1] - ref[1]) > p.in_play_distance
-        if played or moved:
+        if played or moved or (self._slow_called and (snap.kicks or snap.touches)):
             self._pending = False
             self._stuck_since = None
             return None
         if snap.time >= self._deadline:
-            who = team or "the absent opponents"
             return self._drop_ball(snap.time, snap.ball[:2],
-                                   f"{who} did not take the {self._restart_name} within {p.restart_timeout:.0f} s: ")
+                                   f"nobody played the {self._restart_name} within {p.restart_timeout:.0f} s: ")
+        if not self._slow_called and team is not None and snap.time >= self._set_piece_deadline:
+            self._slow_called = True  # the opponents may go for the ball now (RC-13); play goes on
+            text = f"{team} did not take the {self._restart_name} within {p.set_piece_time:g} s: the opponents may play"
+            call = RefereeCall("slow_restart", team, "", (snap.ball[0], snap.ball[1]), "RC-13.1", text,
+                               time=snap.time)
+            return replace(self._decide(None, text), calls=(call,))
         return None
 
     def _check_stuck(self, snap: WorldSnapshot) -> RefereeDecision | None:
@@ -247,6 +306,12 @@ class AutomaticReferee:
         self.phase = Phase.PLAY
         self._pending = self._restart_side is not None
         self._deadline = now + self.params.restart_timeout
+        self._set_piece_deadline = now + self.params.set_piece_time
+        self._slow_called = False
+        self.fouls.reset()
+        taker = self.game.team_attacking(self._restart_side) if self._restart_side is not None else None
+        known = self._restart_name if self._restart_name != "command by hand" else ""
+        self.goal_check.started(known, taker or "")
         self._ball_ref, self._stuck_since = self._last_ball, None
         spot, self._spot = self._spot, None
         text = f"STARTROBOT: play on after the {self._restart_name}"

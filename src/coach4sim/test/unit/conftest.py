@@ -20,7 +20,8 @@ class Match:
         self.referee = AutomaticReferee(RefereeParams(**params), self.game)
         self.time = 0.0
         self.ball = (0.0, 0.0, 0.11)
-        self.robots = {"nubot1": (-2.0, 0.0), "rival1": (2.0, 0.0)}
+        # each robot in the half it attacks, away from the areas and the others: its shots count (RC-10.1.1)
+        self.robots = {"nubot1": (2.0, 1.0), "nubot2": (3.0, -1.0), "rival1": (-2.0, 0.0), "rival2": (-3.0, 1.0)}
         self.last_touch = ""
 
     def step(self, dt: float = 0.0, **events):
@@ -46,11 +47,13 @@ class Match:
         return {t.spec.prefix: t.mode.name for t in self.game.teams}
 
     def kickoff_and_play(self) -> None:
-        """Start the match and let the first kickoff be taken: the ball is in play."""
+        """Start the match and let the first kickoff be taken and passed on (two of nubot's robots touched the ball:
+        a goal may follow, RC-8.4.1): the ball is in play."""
         self.step()
         self.run(4.0)
         assert self.game.running
         self.step(0.25, touches=("nubot1",))
+        self.step(0.25, touches=("nubot2",))
         assert not self.referee.restart_pending
 
 

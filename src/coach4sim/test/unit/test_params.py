@@ -13,7 +13,8 @@ from nubot_common.params import from_mapping, load_yaml
 def test_shipped_config_has_the_briefed_numbers(config_dir):
     params = load_yaml(RefereeNodeParams, config_dir / "referee.yaml")
     assert params.teams == (TeamSpec("nubot", 1), TeamSpec("rival", -1)) == DEFAULT_TEAMS
-    assert (params.setup_time, params.restart_timeout, params.stuck_time, params.stuck_distance) == (4, 12, 5, 0.3)
+    assert (params.setup_time, params.restart_timeout, params.stuck_time, params.stuck_distance) == (4, 20, 5, 0.3)
+    assert (params.set_piece_time, params.carry_distance, params.area_time, params.area_robots) == (7, 3, 10, 1)
     assert (params.half_duration, params.halves, params.republish_period, params.auto) == (300, 2, 0.03, True)
     assert params.field == FieldGeometry(), "the field of /world (here the default world)"
 

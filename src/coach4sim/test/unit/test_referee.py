@@ -177,7 +177,7 @@ def test_out_with_no_known_toucher_is_a_dropped_ball_inside_the_field(match):
 def test_contested_ball_that_does_not_move_is_dropped(match):
     match.kickoff_and_play()
     match.ball = (8.7, 1.0, 0.11)
-    match.robots = {"nubot1": (8.3, 1.0), "rival1": (8.9, 1.6)}
+    match.robots = {"nubot1": (8.0, 0.6), "rival1": (8.9, 1.6)}  # the attacker just out of the goal area
     start, drops = match.time, []
     for i in range(30):  # 7.5 s with the ball jiggling by 0.1 m
         match.ball = (8.7 + 0.1 * (i % 2), 1.0, 0.11)
@@ -211,7 +211,7 @@ def test_moving_contested_ball_is_not_stuck(match):
         assert match.step(0.25) is None
 
 
-def test_set_piece_not_taken_in_time_becomes_a_dropped_ball(match):
+def test_a_set_piece_not_taken_in_7_s_lets_the_opponents_play_and_one_nobody_plays_is_dropped(match):
     match.kickoff_and_play()
     match.ball = (2.0, 6.5, 0.11)
     match.step(0.25, last_touch="nubot1")  # throw-in for rival
@@ -219,11 +219,29 @@ def test_set_piece_not_taken_in_time_becomes_a_dropped_ball(match):
     assert [d.commands[0][1].name for d in match.run(4.0)] == ["STARTROBOT"]
     assert match.referee.restart_pending
     assert match.step(0.25, touches=("nubot2",)) is None, "the other team's touch does not take it"
-    assert match.run(11.5) == []
-    late = match.step(0.25)
+    assert match.run(6.5) == []
+    slow = match.step(0.25)  # 7 s after STARTROBOT: a call, and play goes on (RC-13)
+    assert slow.ball is None and match.modes() == {"nubot": "STARTROBOT", "rival": "STARTROBOT"}
+    call, = slow.calls
+    assert (call.kind, call.team, call.restart) == ("slow_restart", "rival", "")
+    assert "rival did not take the throw-in within 7 s" in slow.event
+    assert match.run(12.75) == []
+    late = match.step(0.25)  # 20 s and still nobody played it: the game is stuck
     assert match.modes() == {"nubot": "DROPBALL", "rival": "DROPBALL"}
-    assert "rival did not take the throw-in within 12 s" in late.event
+    assert "nobody played the throw-in within 20 s" in late.event
     assert late.ball == pytest.approx((2.0, 5.0))
+
+
+def test_after_7_s_the_opponents_touch_puts_the_ball_in_play(match):
+    match.kickoff_and_play()
+    match.ball = (2.0, 6.5, 0.11)
+    match.step(0.25, last_touch="nubot1")
+    match.ball = (2.0, 5.9, 0.11)
+    match.run(4.0)
+    match.run(7.0)
+    assert match.referee.restart_pending
+    match.step(0.25, touches=("nubot2",))
+    assert not match.referee.restart_pending
 
 
 @pytest.mark.parametrize("taken", [{"touches": ("rival3",)}, {"kicks": ("rival3",)}, {"ball": (2.0, 5.2, 0.11)}])
@@ -252,8 +270,8 @@ def test_game_clock_stops_while_the_teams_set_up(match):
 @pytest.mark.parametrize("switch", [True, False])
 def test_end_of_each_half_stops_the_robots_and_the_second_half_starts_with_the_other_kickoff(make_match, switch):
     match = make_match(half_duration=20.0, half_time_break=5.0, switch_ends=switch)
-    match.kickoff_and_play()  # the clock runs since STARTROBOT at t = 4 s; now t = 4.25 s
-    decisions = match.run(19.5)
+    match.kickoff_and_play()  # the clock runs since STARTROBOT at t = 4 s; now t = 4.5 s
+    decisions = match.run(19.25)
     assert decisions == [] and match.game.running
     stop = match.step(0.25)
     assert stop.commands == (("nubot", MatchMode.STOPROBOT), ("rival", MatchMode.STOPROBOT))

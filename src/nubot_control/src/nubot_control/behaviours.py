@@ -20,6 +20,7 @@ from nubot_common.commands import KickCommand, KickKind
 from nubot_common.geometry import Pose2D, wrap_angle
 from nubot_common.percepts import RobotReport
 from nubot_common.team_play import PassCommand, Role
+from nubot_control.chances import ChanceParams, lob_chance, pass_margin, shot_chance, shot_chances
 from nubot_control.params import ControlParams
 from nubot_control.role_allocation import support_positions
 from nubot_control.team_state import TeamState
@@ -99,49 +100,115 @@ def chase_ball(state: TeamState, params: ControlParams) -> Intent:
     return Intent(_facing(tx, ty, ball.x, ball.y), Action.CHASE, speed_limit=arrive, dribble=near)
 
 
-def _aim_at_goal(state: TeamState, params: ControlParams) -> tuple[float, float]:
-    f = state.field
-    gx = f.half_length
+def _pressed(state: TeamState, radius: float = _PRESSURE_RADIUS) -> bool:
     me = state.me.pose
-    best, best_gap = (gx, 0.0), -1.0
-    for y in (-0.35 * f.goal_width, 0.0, 0.35 * f.goal_width):
-        gap = min((math.hypot(ox - gx, oy - y) for ox, oy in state.opponents if ox > me.x), default=10.0)
-        if gap > best_gap + 1e-9:
-            best, best_gap = (gx, y), gap
-    return best
+    return any(math.hypot(ox - me.x, oy - me.y) < radius for ox, oy in state.opponents)
 
 
-def _pass_target(state: TeamState, params: ControlParams) -> RobotReport | None:
+@dataclass(frozen=True)
+class PassOption:
+    mate: RobotReport
+    value: float  # the receiver's chance to score from where it stands, plus a little for the ground it gains
+    margin: float  # [s] by which the ball beats every opponent along the line (``chances.pass_margin``)
+
+
+def pass_options(state: TeamState, params: ControlParams, cp: ChanceParams) -> list[PassOption]:
+    """The passes to teammates (not the goalie) 1.5-9 m away, best first, with what each is worth and how safe."""
+    me, f, play = state.me.pose, state.field, params.play
+    ball = (state.ball.x, state.ball.y)
+    mates = [m for m in state.mates if m.agent_id != state.goalie_id
+             and 1.5 < me.distance_to(m.pose.x, m.pose.y) < 9.0]
+    if not mates:
+        return []
+    chances = shot_chances([(m.pose.x, m.pose.y) for m in mates], state.opponents, f, play.shot_speed, cp)
+    options = []
+    for mate, shot in zip(mates, chances):
+        speed = max(3.0, min(8.0, play.pass_speed_per_metre * me.distance_to(mate.pose.x, mate.pose.y)))
+        margin = pass_margin(ball, (mate.pose.x, mate.pose.y), speed, state.opponents, cp)
+        in_range = math.hypot(f.half_length - mate.pose.x, mate.pose.y) < play.shot_range
+        options.append(PassOption(mate, (shot.chance if in_range else 0.0) + 0.03 * (mate.pose.x - me.x), margin))
+    return sorted(options, key=lambda o: (-o.value, o.mate.agent_id))
+
+
+def attack(state: TeamState, params: ControlParams, cp: ChanceParams, carried: float = 0.0,
+           wants_pass: bool = False, caught_at: tuple[float, float] | None = None) -> Intent:
+    """With the ball: shoot when the shot's chance to score is good (``shot_threshold``), else pass when a safe
+    pass is worth more or the robot is pressed or asked to, else dribble towards a better shot (or away from the
+    pressure) within ``carry_limit`` of where it caught the ball (``caught_at``); when the ball has been carried
+    ``carry_limit`` it must go: the best shot or pass there is, else it is pushed ahead and taken again (the rules
+    allow that, not carrying it on)."""
+    play, f = params.play, state.field
+    ball = (state.ball.x, state.ball.y)
+    must_go = carried >= play.carry_limit
+    to_goal = math.hypot(f.half_length - ball[0], ball[1])
+    flat = shot_chance(ball, state.opponents, f, play.shot_speed, cp) if to_goal < play.shot_range else None
+    lob = lob_chance(ball, state.opponents, f, cp) if 3.0 < to_goal < play.lob_range else 0.0
+    shot = max(flat.chance if flat is not None else 0.0, lob)
+    options = pass_options(state, params, cp)
+    pressed = _pressed(state)
+    safe = [o for o in options if o.margin >= (0.0 if pressed else play.pass_margin)]
+    best_pass = safe[0].value if safe else -1.0
+    if shot >= (play.last_chance if must_go else play.shot_threshold) and shot >= best_pass:
+        if lob > (flat.chance if flat is not None else 0.0):
+            return _shoot(state, (f.half_length, 0.0), KickCommand(KickKind.LOB, play.shot_speed), params)
+        assert flat is not None
+        return _shoot(state, flat.aim, KickCommand(KickKind.GROUND, play.shot_speed), params)
+    if safe and (must_go or wants_pass or pressed or best_pass > shot + 0.15):
+        return pass_to(state, safe[0].mate, params)
+    if must_go:
+        if options:  # the least unsafe pass
+            return pass_to(state, max(options, key=lambda o: o.margin).mate, params)
+        if shot > 0.0 and flat is not None:
+            return _shoot(state, flat.aim, KickCommand(KickKind.GROUND, play.shot_speed), params)
+        return _push_ahead(state, params)
+    return _dribble(state, params, cp, caught_at)
+
+
+def _shoot(state: TeamState, aim: tuple[float, float], kick: KickCommand, params: ControlParams) -> Intent:
+    """Turn on the spot to the aim and kick once facing it within ``shot_aim_tolerance``."""
     me = state.me.pose
-    candidates = []
-    for mate in state.mates:
-        if mate.agent_id == state.goalie_id:
-            continue
-        d = me.distance_to(mate.pose.x, mate.pose.y)
-        if 2.0 < d < 8.0 and line_is_clear(me.x, me.y, mate.pose.x, mate.pose.y, list(state.opponents)):
-            candidates.append(mate)
-    return max(candidates, key=lambda m: (m.pose.x, -m.agent_id)) if candidates else None
+    face = _facing(me.x, me.y, *aim)
+    if abs(wrap_angle(face.theta - me.theta)) < params.play.shot_aim_tolerance:
+        return Intent(face, Action.SHOOT, dribble=True, kick=kick)
+    return Intent(face, Action.SHOOT, speed_limit=0.3, dribble=True)
 
 
-def attack(state: TeamState, params: ControlParams, wants_pass: bool = False) -> Intent:
-    """With the ball: shoot when in range, else pass when pressed or asked to, else dribble on."""
-    me, play, f = state.me.pose, params.play, state.field
-    aim = _aim_at_goal(state, params)
-    to_goal = me.distance_to(*aim)
-    pressed = any(math.hypot(ox - me.x, oy - me.y) < _PRESSURE_RADIUS for ox, oy in state.opponents)
-    if to_goal < play.shoot_range:
-        face = _facing(me.x, me.y, *aim)
-        if abs(wrap_angle(face.theta - me.theta)) < play.aim_tolerance:
-            clear = line_is_clear(me.x, me.y, aim[0], aim[1], list(state.opponents))
-            kind = KickKind.GROUND if clear or to_goal > play.lob_range else KickKind.LOB
-            return Intent(face, Action.SHOOT, dribble=True, kick=KickCommand(kind, play.shot_speed))
-        return Intent(face, Action.SHOOT, speed_limit=0.3, dribble=True)
-    mate = _pass_target(state, params) if (pressed or wants_pass) else None
-    if mate is not None and mate.pose.x > me.x - 1.0:
-        return pass_to(state, mate, params)
-    tx = f.half_length - play.shoot_range + 1.0
-    ty = max(-f.half_width + 1.0, min(f.half_width - 1.0, me.y * 0.5 + aim[1] * 0.5))
-    return Intent(_facing(tx, ty, *aim), Action.DRIBBLE, speed_limit=params.motion.dribble_speed, dribble=True)
+def _push_ahead(state: TeamState, params: ControlParams) -> Intent:
+    """Let the ball go with a short kick towards the goal, to take it again beyond (a release the rules allow)."""
+    me, f = state.me.pose, state.field
+    face = _facing(me.x, me.y, f.half_length, me.y * 0.5)
+    if abs(wrap_angle(face.theta - me.theta)) < params.play.aim_tolerance * 2.0:
+        return Intent(face, Action.DRIBBLE, dribble=False, kick=KickCommand(KickKind.GROUND, 3))
+    return Intent(face, Action.DRIBBLE, speed_limit=0.3, dribble=True)
+
+
+_DRIBBLE_STEP = 1.2  # how far ahead the dribble's candidate spots lie [m]
+_DRIBBLE_TURNS = (0.0, -0.5, 0.5, -1.0, 1.0, -1.6, 1.6, math.pi)  # their directions, off the line to the goal [rad]
+
+
+def _dribble(state: TeamState, params: ControlParams, cp: ChanceParams,
+             caught_at: tuple[float, float] | None = None) -> Intent:
+    """Carry the ball to the nearby spot with the best shot, away from opponents (candidates all round, towards the
+    goal preferred, inside the field and within ``carry_limit`` of where the ball was caught), facing where it goes:
+    forwards the ball handler is fastest."""
+    me, f, play = state.me.pose, state.field, params.play
+    heading = math.atan2(-me.y * 0.3, f.half_length - me.x)
+    spots = [(turn, me.x + _DRIBBLE_STEP * math.cos(heading + turn), me.y + _DRIBBLE_STEP * math.sin(heading + turn))
+             for turn in _DRIBBLE_TURNS]
+    spots = [s for s in spots if f.is_inside(s[1], s[2], -0.8) and
+             (caught_at is None or math.hypot(s[1] - caught_at[0], s[2] - caught_at[1]) < play.carry_limit)]
+    best, best_value = None, -math.inf
+    shots = shot_chances([(x, y) for _, x, y in spots], state.opponents, f, play.shot_speed, cp) if spots else []
+    for (turn, x, y), shot in zip(spots, shots):
+        crowd = sum(max(0.0, 1.5 - math.hypot(ox - x, oy - y)) for ox, oy in state.opponents)
+        value = shot.chance - 0.2 * crowd - 0.05 * abs(turn) + 0.02 * (x - me.x)
+        if value > best_value:
+            best, best_value = (x, y), value
+    if best is None:
+        return Intent(me, Action.DRIBBLE, speed_limit=params.motion.dribble_speed, dribble=True)
+    heading = math.atan2(best[1] - me.y, best[0] - me.x)
+    return Intent(Pose2D(best[0], best[1], heading), Action.DRIBBLE, speed_limit=params.motion.dribble_speed,
+                  dribble=True)
 
 
 def pass_to(state: TeamState, mate: RobotReport, params: ControlParams, static: bool = False) -> Intent:
@@ -170,6 +237,27 @@ def catch_pass(state: TeamState, plan: PassCommand, params: ControlParams) -> In
             x, y = ball.x + ux * t, ball.y + uy * t
             return Intent(_facing(x, y, ball.x, ball.y), Action.CATCH, dribble=True)
     return Intent(_facing(cx, cy, ball.x, ball.y), Action.CATCH, dribble=True)
+
+
+def opponent_has_ball(state: TeamState, radius: float = 0.6) -> tuple[float, float] | None:
+    """The opponent at the ball (within ``radius`` of it, and nearer than any of us), if one: it plays the ball."""
+    ball = state.ball
+    if not ball.known or not state.opponents:
+        return None
+    ox, oy = min(state.opponents, key=lambda o: math.hypot(o[0] - ball.x, o[1] - ball.y))
+    theirs = math.hypot(ox - ball.x, oy - ball.y)
+    ours = min(math.hypot(m.pose.x - ball.x, m.pose.y - ball.y) for m in state.team)
+    return (ox, oy) if theirs < radius and theirs < ours else None
+
+
+def press(state: TeamState, params: ControlParams) -> Intent:
+    """An opponent plays the ball: stand between the ball and our goal, close to it (the contact guard keeps the
+    robot from charging), facing the ball: the shot's lane is shut and the carrier must pass or turn."""
+    ball, f = state.ball, state.field
+    dx, dy = -f.half_length - ball.x, -ball.y
+    d = max(math.hypot(dx, dy), 1e-6)
+    gap = params.play.press_distance
+    return Intent(_facing(ball.x + dx / d * gap, ball.y + dy / d * gap, ball.x, ball.y), Action.DEFEND)
 
 
 def support(state: TeamState, role: Role, params: ControlParams) -> Intent:

@@ -24,7 +24,8 @@ heading is a rate-limited proportional loop in both. An obstacle is (x, y), a ro
 (x, y, clearance): keep the centre that far away. After either tracker the contact guard
 (``keep_clear``) takes out of the command what would bring the robot into contact with another
 robot: the speed towards each is at most what lets it stop ``contact_margin`` short of that robot's
-hull, so robots press and block but never drive into each other.
+hull, so robots press and block but never drive into each other; before it, the areas the rules keep
+the robot out of (``no_go``) are walls it does not cross (``areas.stay_out``).
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ import numpy as np
 
 from nubot_common.geometry import Pose2D, rotate, wrap_angle
 from nubot_common.world_description import WorldDescription
+from nubot_control.areas import Rect, stay_out
 from nubot_control.mpc import LaguerreMpc, MpcParams
 from nubot_control.params import MotionParams
 from nubot_control.path_planning import Bounds, Disc, PlannerParams, Trajectory, plan
@@ -172,14 +174,16 @@ class MotionController:
         self._plan_goals, self._plan_limits, self._plan_age, self._plan_keepable = [], (0.0, 0.0), 0.0, False
 
     def command(self, me: Pose2D, target: Pose2D, obstacles: Sequence[tuple[float, ...]], dt: float,
-                speed_limit: float | None = None, holding: bool = False) -> tuple[float, float, float]:
+                speed_limit: float | None = None, holding: bool = False,
+                no_go: Sequence[Rect] = ()) -> tuple[float, float, float]:
         """One cycle's body-frame command towards ``target`` (position and heading)."""
-        return self.follow(me, [(target.x, target.y)], target.theta, obstacles, dt, speed_limit, holding)
+        return self.follow(me, [(target.x, target.y)], target.theta, obstacles, dt, speed_limit, holding, no_go)
 
     def follow(self, me: Pose2D, waypoints: list[tuple[float, float]], heading: float,
                obstacles: Sequence[tuple[float, ...]], dt: float, speed_limit: float | None = None,
-               holding: bool = False) -> tuple[float, float, float]:
-        """One cycle's body-frame command along ``waypoints`` (the last is the goal), ending facing ``heading``.
+               holding: bool = False, no_go: Sequence[Rect] = ()) -> tuple[float, float, float]:
+        """One cycle's body-frame command along ``waypoints`` (the last is the goal), ending facing ``heading``;
+        ``no_go``: rectangles (team frame) it must not enter (``areas.no_go``: the areas the rules keep it out of).
 
         The mpc tracker passes through the waypoints in order (a waypoint is dropped once passed);
         the baseline heads for the first one and drops it within 0.3 m.
@@ -199,6 +203,8 @@ class MotionController:
                     math.hypot(self._waypoints[0][0] - me.x, self._waypoints[0][1] - me.y) < 0.3:
                 self._waypoints.pop(0)
             vx, vy = self._baseline(me, self._waypoints[0], obstacles, dt, limit, accel)
+        if no_go:
+            vx, vy = stay_out((me.x, me.y), (vx, vy), no_go, p.contact_brake, p.contact_latency)
         if p.contact_margin > 0.0:
             robots = [o for o in obstacles if len(o) == 2]
             vx, vy = keep_clear((me.x, me.y), (vx, vy), robots, 2.0 * self.robot_radius + p.contact_margin,

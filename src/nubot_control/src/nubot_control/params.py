@@ -71,15 +71,24 @@ class PlayParams:
     drop_ball_distance: float = 1.0  # everyone keeps this far until the drop ball is started [m]
     set_play_timeout: float = 7.0  # after STARTROBOT of an opponent set play, play on after this [s]
     grab_distance: float = 0.45  # ask for the ball when this close, centre to centre [m]
-    shoot_range: float = 6.0  # shoot when this close to the opponent goal [m]
-    lob_range: float = 7.5  # a blocked shot within this range becomes a lob [m]
+    shot_threshold: float = 0.45  # shoot when the shot's chance to score (``chances``) is at least this [1]
+    last_chance: float = 0.2  # ... or at least this when the ball must go (carried to carry_limit, no pass) [1]
+    shot_range: float = 9.0  # no shot from farther than this from the goal's centre [m]
+    lob_range: float = 7.0  # no lob from farther than this (the kicker's lob does not reach) [m]
     shot_speed: int = 10  # ground shot [m/s]
     pass_speed_per_metre: float = 0.9  # ground pass speed = clamp(k * distance, 3, 8) [m/s per m]
-    aim_tolerance: float = 0.08  # kick when facing the aim point this well [rad]
+    pass_margin: float = 0.15  # pass when the ball beats every opponent by this all along its line (pressed: 0) [s]
+    kick_spread: float = 2.0  # what the team reckons a kick scatters, aim included (one standard deviation) [deg]
+    aim_tolerance: float = 0.08  # pass when facing the receiver this well [rad]
+    shot_aim_tolerance: float = 0.03  # shoot when facing the aim point this well [rad]
     role_hysteresis: float = 0.6  # a challenger must reach the ball this much sooner [s]
     min_role_time: float = 1.0  # keep a role at least this long unless the holder drops out [s]
     search_distance: float = 1.5  # with the ball lost, the active robot stops this short of where it was seen [m]
     search_turn: float = 0.6  # ... and then turns on the spot, aiming this far ahead of its heading [rad]
+    press_distance: float = 0.9  # an opponent playing the ball is pressed from this far, on its way to our goal [m]
+    carry_limit: float = 2.4  # the rules allow 3 m with the ball from where it was caught: pass, shoot or let go by
+    # this distance [m]
+    area_time: float = 7.0  # the rules allow 10 s in a penalty area: leave it after this long [s]
     goalie_line: float = 0.4  # the goalie guards the goal this far ahead of its goal line [m]
     lob_line: float = -0.2  # ... and meets a lob coming down into the goal this far ahead of the line (behind it:
     # a lob aimed under the bar is lower there, and comes down on the goalie's body, not over it) [m]
@@ -87,7 +96,12 @@ class PlayParams:
     team_size: int = 5
 
     def __post_init__(self) -> None:
-        require_positive(self, "search_distance", "search_turn")
+        require_positive(self, "search_distance", "search_turn", "carry_limit", "area_time", "shot_range", "lob_range",
+                         "press_distance",
+                         "kick_spread", "shot_aim_tolerance")
+        for name in ("shot_threshold", "last_chance"):
+            if not 0.0 <= getattr(self, name) <= 1.0:
+                raise ValueError(f"{name} must lie in [0, 1], got {getattr(self, name)}")
         if not -0.3 <= self.lob_line <= self.goalie_line <= 2.0:
             raise ValueError(f"need -0.3 <= lob_line <= goalie_line <= 2.0 [m], got {self.lob_line}, "
                              f"{self.goalie_line}")

@@ -6,20 +6,25 @@ VelCmd, the dribbler wish for BallHandle, an optional Shoot request, and what go
 StrategyInfo: role, action, target, static pass numbers, pass command). Game flow: STOPROBOT
 stops; set pieces, drop ball and park move to their formation; STARTROBOT after our set piece
 lets the taker pass to the receiver (the static pass), after theirs waits until the ball is in
-play; then open play with roles from the ``RoleAllocator``. A ball the world model does not
+play; then open play with roles from the ``RoleAllocator``. Every target keeps to the areas the rules
+allow (``areas``): the goal areas are the goalie's, the penalty areas the goalie's and the robot's
+playing the ball. A ball the world model does not
 know is searched for where it was last seen (``behaviours.search_ball``), never chased.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from nubot_common.commands import BodyVelocity, KickCommand
+from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import OUR_SET_PLAYS, THEIR_SET_PLAYS, MatchMode
 from nubot_common.team_play import PassCommand, Role
 from nubot_common.world_description import WorldDescription
 from nubot_control import behaviours as bh
+from nubot_control.areas import Rect, in_area, keep_out, no_go
+from nubot_control.chances import ChanceParams
 from nubot_control.motion import MotionController
 from nubot_control.params import ControlParams
 from nubot_control.role_allocation import RoleAllocator
@@ -29,6 +34,7 @@ from nubot_control.team_state import TeamState
 _BALL_IN_PLAY_DISTANCE = 0.5  # a restart is over once the ball moved this far [m]
 _PASS_MEMORY = 3.0  # a pass command is kept this long after the kick [s]
 _KICKED_BALL_SPEED = 1.0  # a ball this fast has been kicked [m/s]
+_RELEASED = 0.7  # a ball this far from the robot's centre has been let go for all to see (the referee's) [m]
 _RESTARTS = OUR_SET_PLAYS | THEIR_SET_PLAYS
 
 
@@ -63,6 +69,14 @@ class Strategy:
         self._pass_time = -math.inf
         self._frozen_roles: dict[int, Role] | None = None  # roles a formation was built with, per command
         self._kicked_since_start = False
+        self._caught_at: tuple[float, float] | None = None  # where this robot last caught the ball (team frame)
+        self._in_area_since: dict[bool, float] = {}  # own (True) / the opponents' (False) penalty area: inside since
+        body = world.robot
+        m = params.motion
+        self.chances = ChanceParams(kick_direction_std=math.radians(params.play.kick_spread),
+                                    opponent_speed=m.max_speed, opponent_accel=m.max_accel, robot_radius=body.radius,
+                                    ball_radius=world.ball.radius, rolling_decel=world.ball.rolling_friction * 9.8,
+                                    goal_height=world.field.goal_height, robot_height=body.height)
 
     def step(self, state: TeamState) -> ControlOutput:
         dt = 1.0 / self.params.rate if self._last_time is None else min(max(state.time - self._last_time, 1e-3), 0.2)
@@ -70,8 +84,11 @@ class Strategy:
         if self._mode_seen != (state.mode, state.mode_since):
             self._mode_seen = (state.mode, state.mode_since)
             self._on_new_mode(state)
+        self._track_carry(state)
+        self._track_areas(state)
         intent, roles, static_pass = self._decide(state)
         role = roles.get(self.agent_id, Role.NOROLE)
+        intent = self._within_the_rules(intent, role, state)
         if role != self.role:
             self.role, self.role_since = role, state.time
         if intent.action == bh.Action.STOP:
@@ -79,7 +96,8 @@ class Strategy:
             velocity = BodyVelocity()
         else:
             velocity = BodyVelocity(*self.motion.command(state.me.pose, intent.target, self._obstacles(state, intent),
-                                                         dt, intent.speed_limit, holding=state.me.holding))
+                                                         dt, intent.speed_limit, holding=state.me.holding,
+                                                         no_go=self._no_go(role, state)))
         kick = intent.kick if state.me.holding else None
         if kick is not None:
             self._my_pass, self._pass_time = intent.pass_cmd, state.time
@@ -89,6 +107,57 @@ class Strategy:
             plan = plan.kicked()
         return ControlOutput(velocity, intent.dribble, kick, role, intent.action, (intent.target.x, intent.target.y),
                              static_pass, plan, roles)
+
+    def _track_carry(self, state: TeamState) -> None:
+        """Where this robot caught the ball it holds; forgotten once the ball is away from it (released for all to
+        see), as the referee does (RC-12.0.1)."""
+        me, ball = state.me, state.ball
+        if me.holding:
+            if self._caught_at is None:
+                self._caught_at = (ball.x, ball.y)
+        elif self._caught_at is not None and math.hypot(ball.x - me.pose.x, ball.y - me.pose.y) > _RELEASED:
+            self._caught_at = None
+
+    def carried(self, state: TeamState) -> float:
+        """How far [m] the ball is from where this robot caught it (0 when it does not hold it)."""
+        if self._caught_at is None or not state.me.holding:
+            return 0.0
+        return math.hypot(state.ball.x - self._caught_at[0], state.ball.y - self._caught_at[1])
+
+    def _track_areas(self, state: TeamState) -> None:
+        me = state.me.pose
+        for own in (True, False):
+            if in_area(me.x, me.y, state.field, own):
+                self._in_area_since.setdefault(own, state.time)
+            else:
+                self._in_area_since.pop(own, None)
+
+    def _no_go(self, role: Role, state: TeamState) -> list[Rect]:
+        """The areas this robot must not enter now: none for the goalie, the goal areas for the robot playing the
+        ball (and a penalty area it has been in for ``area_time``), the penalty areas for the others (``areas``)."""
+        if self.agent_id == state.goalie_id:
+            return []
+        if role not in (Role.ACTIVE, Role.PASSOFPASS):
+            return no_go(state.field, penalty_areas=True)
+        rects = no_go(state.field, penalty_areas=False)
+        overstayed = [own for own, since in self._in_area_since.items()
+                      if state.time - since > self.params.play.area_time]
+        if overstayed:
+            penalty = no_go(state.field, penalty_areas=True)  # own area first, then the opponents'
+            rects += [penalty[0 if own else 1] for own in overstayed]
+        return rects
+
+    def _within_the_rules(self, intent: bh.Intent, role: Role, state: TeamState) -> bh.Intent:
+        """The intent with its target out of the areas the rules keep this robot out of (``areas``): the goalie
+        anywhere, the robot playing the ball (ACTIVE, or the taker of a set piece) out of the goal areas, the others
+        out of the penalty areas too."""
+        if self.agent_id == state.goalie_id or intent.action == bh.Action.STOP:
+            return intent
+        playing = role in (Role.ACTIVE, Role.PASSOFPASS)
+        x, y = keep_out(intent.target.x, intent.target.y, state.field, penalty_areas=not playing)
+        if (x, y) == (intent.target.x, intent.target.y):
+            return intent
+        return replace(intent, target=Pose2D(x, y, intent.target.theta))
 
     # --- game flow ------------------------------------------------------------------------
     def _on_new_mode(self, state: TeamState) -> None:
@@ -146,7 +215,8 @@ class Strategy:
                 receiver = next((m for m in state.mates if m.agent_id == plan.receiver), None)
                 if receiver is not None:
                     return bh.pass_to(state, receiver, self.params, static=True), roles, static
-                return bh.attack(state, self.params), roles, static
+                return bh.attack(state, self.params, self.chances, self.carried(state),
+                                 caught_at=self._caught_at), roles, static
             return bh.chase_ball(state, self.params), roles, static
         if state.previous_mode in OUR_SET_PLAYS and self.agent_id == plan.receiver:
             roles[plan.receiver] = Role.CATCHOFPASS
@@ -166,14 +236,19 @@ class Strategy:
             return bh.catch_pass(state, plan, self.params), roles, (0, 0)
         if role == Role.GOALIE:
             return bh.keep_goal(state, self.params), roles, (0, 0)
+        carrier = bh.opponent_has_ball(state)
         if role == Role.ACTIVE:
             if state.me.holding:
-                return bh.attack(state, self.params), roles, (0, 0)
+                return bh.attack(state, self.params, self.chances, self.carried(state),
+                                 caught_at=self._caught_at), roles, (0, 0)
+            if carrier is not None:
+                return bh.press(state, self.params), roles, (0, 0)
             return bh.chase_ball(state, self.params), roles, (0, 0)
-        if role == Role.MIDFIELD:
-            threat = _most_dangerous_opponent(state)
-            if threat is not None:
-                return bh.mark(state, threat, self.params), roles, (0, 0)
+        if role == Role.MIDFIELD or (role == Role.ASSISTANT and carrier is not None):
+            threats = _dangerous_opponents(state, carrier)
+            pick = 0 if role == Role.MIDFIELD else 1
+            if len(threats) > pick:
+                return bh.mark(state, threats[pick], self.params), roles, (0, 0)
         return bh.support(state, role, self.params), roles, (0, 0)
 
     def _obstacles(self, state: TeamState, intent: bh.Intent) -> list[tuple[float, ...]]:
@@ -185,8 +260,10 @@ class Strategy:
         return obstacles
 
 
-def _most_dangerous_opponent(state: TeamState) -> tuple[float, float] | None:
-    """The opponent nearest the own goal inside the own half and away from the ball, if any."""
-    candidates = [o for o in state.opponents
-                  if o[0] < 0.0 and math.hypot(o[0] - state.ball.x, o[1] - state.ball.y) > 2.0]
-    return min(candidates, key=lambda o: o[0]) if candidates else None
+def _dangerous_opponents(state: TeamState, carrier: tuple[float, float] | None) -> list[tuple[float, float]]:
+    """The opponents who could receive a pass and shoot, most dangerous first: those away from the ball (not the
+    carrier) in our half, nearest our goal first."""
+    gx = -state.field.half_length
+    candidates = [o for o in state.opponents if o != carrier and o[0] < 1.0
+                  and math.hypot(o[0] - state.ball.x, o[1] - state.ball.y) > 2.0]
+    return sorted(candidates, key=lambda o: math.hypot(o[0] - gx, o[1]))

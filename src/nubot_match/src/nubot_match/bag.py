@@ -9,9 +9,10 @@ Provides: ``BagRecorder`` (a ``MatchListener``) writing
 - ``/clock`` (rosgraph_msgs/Clock) and ``/sim_visual/model_states`` (nubot_common/ModelStates, stamped)
   at the model-state rate (100 Hz);
 - ``/sim_visual/goal`` (GoalEvent), ``/sim_visual/kick`` (KickEvent), ``/sim_visual/ball_touch``
-  (BallTouch) as they happen (captures and releases have no topic);
+  (BallTouch), ``/sim_visual/ball_holder`` (BallHolder) as they happen;
 - ``/sim_visual/world_description`` (WorldDescription, latched) once, at the start;
-- ``/referee/state`` (GameState) and ``/<team>/receive_from_coach`` (CoachInfo);
+- ``/referee/state`` (GameState), ``/referee/foul`` (RefereeCall) and ``/<team>/receive_from_coach``
+  (CoachInfo);
 - with ``robots=True`` also per robot ``/<robot>/omnivision/OmniVisionInfo`` (30 Hz),
   ``/<robot>/worldmodel/worldmodelinfo`` (WorldModelInfo), ``/<robot>/nubotcontrol/strategy``
   (StrategyInfo) and ``/<robot>/nubotcontrol/velcmd`` (VelCmd) at the control rate (33 Hz).
@@ -37,7 +38,8 @@ from typing import Protocol
 from rosbags.interfaces import Connection
 from rosbags.rosbag1 import Writer, WriterError
 
-from coach4sim.conversions import game_state_msg
+from coach4sim.conversions import game_state_msg, referee_call_msg
+from coach4sim.fouls import RefereeCall
 from coach4sim.game import GameStateData
 from nubot_common import conversions as shared
 from nubot_common.match_mode import MatchMode
@@ -47,14 +49,15 @@ from nubot_control.agent import AgentStep
 from nubot_match import NubotMatchError
 from nubot_match.record import MatchListener, ModelStates
 from sim_visual import conversions as sim_conv
-from sim_visual.simulator import BallKicked, BallTouched, GoalScored, SimEvent
+from sim_visual.simulator import BallKicked, BallTouched, GoalScored, HolderChanged, SimEvent
 
 ACTIVE_SUFFIX = ".active"  # as rosbag record names the bag it is still writing
 CLOCK_TOPIC = "/clock"
 STATES_TOPIC = "/sim_visual/model_states"
 WORLD_TOPIC = "/sim_visual/world_description"
 GOAL_TOPIC, KICK_TOPIC, TOUCH_TOPIC = "/sim_visual/goal", "/sim_visual/kick", "/sim_visual/ball_touch"
-STATE_TOPIC = "/referee/state"
+HOLDER_TOPIC = "/sim_visual/ball_holder"
+STATE_TOPIC, CALL_TOPIC = "/referee/state", "/referee/foul"
 _NS = 1_000_000_000  # nanoseconds per second
 TIME_MIN_NS = 1  # ros::TIME_MIN: rosbag's C++ storage (rosbag play) drops every message at bag time 0
 
@@ -144,12 +147,17 @@ class BagRecorder(MatchListener):
             self.write(KICK_TOPIC, sim_conv.kick_event_msg(event), event.time)
         elif isinstance(event, BallTouched):
             self.write(TOUCH_TOPIC, sim_conv.ball_touch_msg(event), event.time)
+        elif isinstance(event, HolderChanged):
+            self.write(HOLDER_TOPIC, sim_conv.ball_holder_msg(event), event.time)
 
     def game_state(self, t: float, state: GameStateData) -> None:
         self.write(STATE_TOPIC, game_state_msg(state, t), t)
 
     def coach(self, t: float, team: str, mode: MatchMode, previous: MatchMode) -> None:
         self.write(f"/{team}/receive_from_coach", shared.coach_info_msg(int(mode), int(previous), t), t)
+
+    def referee_call(self, call: RefereeCall) -> None:
+        self.write(CALL_TOPIC, referee_call_msg(call), call.time)
 
     def vision(self, robot: str, view: RobotView) -> None:
         if self.robots:

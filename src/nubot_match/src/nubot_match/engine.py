@@ -11,8 +11,9 @@ step (``sim.physics.step_size`` <= 7 ms) the schedule runs, in sim time, what th
 - every robot's control cycle at its ``ControlParams.rate`` (33 Hz): teammates' packets and strategies
   from the relay (what the last cycle shared, as the relay node hands them on), ``RobotAgent.step``, and
   its commands through the robot interface (velocity, BallHandle, Shoot);
-- the referee every ``referee_period`` (30 ms) on the latest model states, its decisions applied as the
-  referee node applies them (ball placed, ends switched, commands to every robot's world model);
+- the referee every ``referee_period`` (30 ms) on the latest model states and the robot holding the ball, its
+  decisions applied as the referee node applies them (ball placed, ends switched, commands to every robot's world
+  model, its calls (fouls, disallowed goals) to the listeners);
 - the listeners (``nubot_match.record``): model states and /clock at ``model_states_rate`` (100 Hz),
   every simulator event, the referee's state on change and every second, coach commands on change.
 
@@ -98,7 +99,7 @@ class LockstepMatch:
                         for team, names in self.members.items()}
         self.strategies = {team: TeamRelay[StrategyReport](team, names, cfg.relay_max_age)
                            for team, names in self.members.items()}
-        self.game = GameController([TeamSpec(t.config.prefix, t.config.attack) for t in cfg.teams])
+        self.game = GameController([TeamSpec(t.config.prefix, t.config.attack, t.config.goalie) for t in cfg.teams])
         self.referee = AutomaticReferee(cfg.referee, self.game)
         self.steps = {}
         self._vision = Periodic(1.0 / cfg.sim.vision_rate)
@@ -257,11 +258,14 @@ class LockstepMatch:
         ball = sim.world.ball_state()
         robots = {n: (s.x, s.y) for n, s in ((n, sim.world.robot_state(n)) for n in self.agents)}
         snapshot = WorldSnapshot(t, (ball.x, ball.y, ball.z), robots, sim.last_touch, tuple(self._seen_goals),
-                                 tuple(self._seen_kicks), tuple(self._seen_touches))
+                                 tuple(self._seen_kicks), tuple(self._seen_touches), sim.holder or "")
         self._seen_goals, self._seen_kicks, self._seen_touches = [], [], []
         decision = self.referee.update(snapshot)
         if decision is not None:
             out.decisions.append(decision)
+            for call in decision.calls:
+                for listener in self.listeners:
+                    listener.referee_call(call)
             if decision.switch_ends:
                 sim.switch_ends()
             if decision.ball is not None:

@@ -40,7 +40,7 @@ from nubot_match.config import MatchConfig, match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.record import MatchLogRecorder
 from nubot_match.statistics import MatchResult, plot_goal_difference, summarise, table_text, verdict
-from nubot_tools.match_analysis import MatchLog, MatchSummary, analyse, running_intervals, stopped_time
+from nubot_tools.match_analysis import FOUL_KINDS, MatchLog, MatchSummary, analyse, running_intervals, stopped_time
 from nubot_tools.match_shots import ShotReport, explain
 from nubot_tools.workspace import TEAMS, WORKSPACE
 
@@ -86,7 +86,8 @@ def team_figures(summary: MatchSummary, shots: ShotReport, team: str) -> dict[st
             "shots": float(counts.get("shots", 0)), "shots_on_target": float(counts.get("on_target", 0)),
             "passes_tried": float(passes.get("tried", 0)), "passes_completed": float(passes.get("completed", 0)),
             "possession": float(summary.possession_share().get(team, 0.0)),
-            "collisions": float(collisions), "fouls": 0.0}
+            "collisions": float(collisions),
+            "fouls": float(sum(n for k, n in summary.foul_counts().get(team, {}).items() if k in FOUL_KINDS))}
 
 
 def match_counts(summary: MatchSummary, shots: ShotReport, log: MatchLog) -> dict[str, float]:
@@ -100,6 +101,8 @@ def match_counts(summary: MatchSummary, shots: ShotReport, log: MatchLog) -> dic
               "passes_completed": float(sum(c["completed"] for c in passes)),
               "collisions": float(len(summary.collisions))}
     counts.update({f"goals_{cause}": float(n) for cause, n in shots.cause_counts().items()})
+    for kind in (*FOUL_KINDS, "goal_disallowed", "slow_restart"):
+        counts[f"fouls_{kind}"] = float(sum(c.kind == kind for c in summary.calls))
     return {k: round(v, 3) for k, v in counts.items()}
 
 

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from coach4sim.fouls import RefereeCall
 from coach4sim.game import GameStateData
 from nubot_common.match_mode import MatchMode
 from nubot_common.percepts import RobotView
@@ -42,6 +43,9 @@ class MatchListener:
 
     def coach(self, t: float, team: str, mode: MatchMode, previous: MatchMode) -> None:
         """A new command for ``team`` in its own view (``/<team>/receive_from_coach``)."""
+
+    def referee_call(self, call: RefereeCall) -> None:
+        """A foul or another call of the referee (``/referee/foul``)."""
 
     def vision(self, robot: str, view: RobotView) -> None:
         """A robot's percepts (``/<robot>/omnivision/OmniVisionInfo``)."""
@@ -94,6 +98,10 @@ class MatchLogRecorder(MatchListener):
     def coach(self, t: float, team: str, mode: MatchMode, previous: MatchMode) -> None:
         self.log.coach.append(ma.CoachCommand(t, team, int(mode)))
 
+    def referee_call(self, call: RefereeCall) -> None:
+        self.log.calls.append(ma.Call(call.time, call.kind, call.team, call.robot, call.restart, call.position,
+                                      call.rule, call.text))
+
     def robot_step(self, t: float, robot: str, step: AgentStep) -> None:
         if step.report.role == Role.GOALIE:
             self._goalie_cycles[robot] = self._goalie_cycles.get(robot, 0) + 1
@@ -105,7 +113,7 @@ class MatchLogRecorder(MatchListener):
         for name, (indices, xs, ys) in self._positions.items():
             log.tracks[name] = ma.Track(name, times[np.asarray(indices, dtype=int)], np.column_stack([xs, ys]))
         log.goalies = ma.goalies_by_role(self._goalie_cycles)
-        records: list[Any] = [*log.goals, *log.kicks, *log.touches, *log.referee, *log.coach]
+        records: list[Any] = [*log.goals, *log.kicks, *log.touches, *log.referee, *log.coach, *log.calls]
         seen = [*self._times, *(r.t for r in records)]
         log.start, log.end = (float(min(seen)), float(max(seen))) if seen else (0.0, 0.0)
         return log
@@ -126,6 +134,9 @@ class MatchEvents(MatchListener):
 
     def coach(self, t: float, team: str, mode: MatchMode, previous: MatchMode) -> None:
         self.events.append(("CoachInfo", t, team, int(mode), int(previous)))
+
+    def referee_call(self, call: RefereeCall) -> None:
+        self.events.append(("RefereeCall", call.time, call.kind, call.team, call.robot, call.restart))
 
 
 def _plain(value: object) -> object:

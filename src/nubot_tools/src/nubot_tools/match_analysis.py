@@ -1,8 +1,8 @@
 """Statistics of one recorded match, from plain records (no ROS, no rosbags).
 
-Requires: a ``MatchLog`` of plain records (model tracks, goals, kicks, ball touches, referee
-states, coach commands; times in sim seconds, positions in the world frame [m]), the match's
-``WorldDescription`` (its field [m] for shots, ``ball_name`` for the ball's track, the robot
+Requires: a ``MatchLog`` of plain records (``match_records``: model tracks, goals, kicks, ball touches,
+referee states, the referee's calls, coach commands; times in sim seconds, positions in the world frame
+[m]), the match's ``WorldDescription`` (its field [m] for shots, ``ball_name`` for the ball's track, the robot
 ``radius`` [m] as the default hull for collisions) and the attacked side per team to use when
 no referee state was recorded. ``match_report`` builds these from a match bag.
 Provides: ``analyse`` -> ``MatchSummary`` (score, goals, possession, passes, shots, referee
@@ -24,7 +24,8 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
   the team that attacks that side at that time (``GameState.attack``, else the default attack); an own
   goal when the last touch was by the other team. The score is counted from these and compared with the last
   ``GameState.score``; a ball pushed into a goal while play is stopped is listed apart
-  (``goals_outside_play``), as the referee does not count it;
+  (``goals_outside_play``), as the referee does not count it, and so is one the referee disallowed (a
+  ``goal_disallowed`` call within ``GOAL_GRACE``: ``goals_disallowed``);
 - touch: a ``BallTouch`` or a ``KickEvent`` (a kicker touched the ball); a ``BallTouch`` by the kicker within
   ``KICK_TOUCH_TIME`` (0.05 s) after its kick is that kick;
 - possession: the share of running time during which the last robot to touch the ball
@@ -40,6 +41,8 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
 - distance run: per robot, the sum of planar displacements between consecutive samples,
   leaving out steps longer than ``teleport_step`` (1 m: the referee or a reset moved it);
 - referee events: the changes of ``GameState.last_event`` (empty texts left out), with times;
+- fouls: the referee's calls (``/referee/foul``) per committing team and kind (``FOUL_KINDS``; also the goals it
+  disallowed and the set pieces not taken in time);
 - positions compared between models: each robot's track interpolated (``np.interp``) onto one
   time grid, leaving out the times its track does not cover (before its first or after its last
   sample); robots are cylinders of radius ``hull_radius`` (default: the world's robot radius, 0.26 m);
@@ -69,6 +72,17 @@ import numpy as np
 from nubot_common.field import FieldGeometry
 from nubot_common.naming import is_robot_name, team_of
 from nubot_common.world_description import WorldDescription
+from nubot_tools.match_records import (
+    FOUL_KINDS,
+    Call,
+    CoachCommand,
+    Goal,
+    Kick,
+    MatchLog,
+    RefereeState,
+    Touch,
+    Track,
+)
 
 SHOT_WIDE_MARGIN = 1.0  # a ground kick crossing the goal line this far outside a post is still a shot [m]
 KICK_TOUCH_TIME = 0.05  # a touch by the kicker this soon after its kick is the kick itself [s]
@@ -81,7 +95,8 @@ DEFINITIONS = {
                     "the whole recording when no GameState was recorded",
     "goal": "each /sim_visual/goal during running time (or up to 0.5 s after: the referee saw it first), "
             "credited to the team attacking that side (GameState.attack, else --attack); own goal when the last "
-            "touch was by the other team; score_from_referee is the last GameState.score; goals_outside_play: "
+            "touch was by the other team; score_from_referee is the last GameState.score; goals_disallowed: the "
+            "referee called goal_disallowed within 0.5 s (not counted); goals_outside_play: "
             "goal events while play was stopped (not counted)",
     "touch": "a BallTouch or a KickEvent (the kicker touched the ball); a BallTouch by the kicker within 0.05 s after "
              "its kick is that kick",
@@ -95,6 +110,8 @@ DEFINITIONS = {
     "distance_run": "sum of planar displacements between consecutive model-state samples, "
                     "steps longer than teleport_step_m left out (teleports by the referee or a reset)",
     "referee_events": "changes of GameState.last_event (empty texts left out) with their sim times",
+    "fouls": "the referee's calls (/referee/foul) per team that committed them and kind: carrying, charging, pushing, "
+             "illegal_defence, illegal_attack (fouls), goal_disallowed, slow_restart (docs/rules.md)",
     "time": "sim time [s]: header stamps; model states: their header stamp, or (bags without it, or a zero stamp) "
             "the latest /clock before them; k consecutive samples sharing a time t, followed by the next distinct "
             "time t', are spread evenly over [t, t')",
@@ -116,74 +133,6 @@ DEFINITIONS = {
 }
 
 _PASS_OUTCOMES = ("completed", "intercepted", "lost", "unresolved")
-
-
-@dataclass(frozen=True)
-class Track:
-    """Planar positions of one model over time: ``t`` [s] (N,), ``xy`` [m] (N, 2), world frame."""
-
-    name: str
-    t: np.ndarray
-    xy: np.ndarray
-
-
-@dataclass(frozen=True)
-class Goal:
-    t: float  # [s]
-    side: int  # goal at +x (1) or -x (-1)
-    ball_xy: tuple[float, float]  # [m]
-    last_touch: str  # robot, "" if none
-    height: float = math.nan  # ball centre's height when seen in the goal [m], NaN unknown
-
-
-@dataclass(frozen=True)
-class Kick:
-    t: float  # [s]
-    robot: str
-    kind: int  # -1 ground pass, 1 lob
-    velocity: tuple[float, float, float]  # initial ball velocity, world frame [m/s]
-    ball_xy: tuple[float, float]  # [m]
-
-
-@dataclass(frozen=True)
-class Touch:
-    t: float  # [s]
-    robot: str
-
-
-@dataclass(frozen=True)
-class RefereeState:
-    t: float  # [s]
-    teams: tuple[str, ...]
-    score: tuple[int, ...]
-    attack: tuple[int, ...]  # 1: attacks the goal at +x, -1 at -x
-    half: int
-    game_time: float  # game clock of this half [s]
-    running: bool
-    last_event: str
-
-
-@dataclass(frozen=True)
-class CoachCommand:
-    t: float  # [s]
-    team: str
-    match_mode: int
-
-
-@dataclass
-class MatchLog:
-    """Everything a match report needs, converted from a bag; lists sorted by time."""
-
-    tracks: dict[str, Track] = field(default_factory=dict)
-    goals: list[Goal] = field(default_factory=list)
-    kicks: list[Kick] = field(default_factory=list)
-    touches: list[Touch] = field(default_factory=list)
-    referee: list[RefereeState] = field(default_factory=list)
-    coach: list[CoachCommand] = field(default_factory=list)
-    start: float = 0.0  # [s] first time seen
-    end: float = 0.0  # [s] last time seen
-    world: WorldDescription | None = None  # the world the bag recorded, None if it recorded none
-    goalies: dict[str, str] = field(default_factory=dict)  # team -> its goalie's model name, where known
 
 
 @dataclass(frozen=True)
@@ -265,6 +214,7 @@ class MatchSummary:
     teleport_step: float
     warnings: list[str]
     goals_outside_play: list[CreditedGoal] = field(default_factory=list)  # pushed in while play was stopped
+    goals_disallowed: list[CreditedGoal] = field(default_factory=list)  # in play, but the referee did not count them
     collisions: list[Collision] = field(default_factory=list)
     ball_reaches: list[BallReach] = field(default_factory=list)
     ball_reaches_dropped: int = 0  # free-ball episodes cut by the end of their running interval
@@ -274,6 +224,7 @@ class MatchSummary:
     separation_margin: float = 0.10  # [m]
     free_distance: float = 1.0  # [m]
     reach_distance: float = 0.45  # [m]
+    calls: list[Call] = field(default_factory=list)  # the referee's fouls and other calls
 
     @property
     def score_agrees(self) -> bool:
@@ -294,6 +245,15 @@ class MatchSummary:
                 c["tried"] += 1
                 c[k.pass_outcome] += 1
                 c["failed"] += k.pass_outcome != "completed"
+        return counts
+
+    def foul_counts(self) -> dict[str, dict[str, int]]:
+        """Per team the fouls it committed by kind (``FOUL_KINDS``), and its disallowed goals and slow restarts."""
+        kinds = (*FOUL_KINDS, "goal_disallowed", "slow_restart")
+        counts = {t: dict.fromkeys(kinds, 0) for t in self.teams}
+        for c in self.calls:
+            team = counts.setdefault(c.team, dict.fromkeys(kinds, 0))
+            team[c.kind] = team.get(c.kind, 0) + 1
         return counts
 
     def shot_counts(self) -> dict[str, int]:
@@ -347,6 +307,8 @@ class MatchSummary:
                        "ball": [r3(g.goal.ball_xy[0]), r3(g.goal.ball_xy[1])]} for g in self.goals],
             "goals_outside_play": [{"t": r3(g.goal.t), "side": g.goal.side, "last_touch": g.goal.last_touch}
                                    for g in self.goals_outside_play],
+            "goals_disallowed": [{"t": r3(g.goal.t), "side": g.goal.side, "team": g.team,
+                                  "last_touch": g.goal.last_touch} for g in self.goals_disallowed],
             "possession": {k: {"share": round(share[k], 4), "seconds": r3(v)}
                            for k, v in self.possession_seconds.items()},
             "passes": self.pass_counts(),
@@ -356,6 +318,10 @@ class MatchSummary:
                        "in_play": k.in_play, "shot": k.shot, "pass": k.pass_outcome, "receiver": k.receiver}
                       for k in self.kicks],
             "referee_events": [{"t": r3(t), "event": e} for t, e in self.referee_events],
+            "fouls": self.foul_counts(),
+            "referee_calls": [{"t": r3(c.t), "kind": c.kind, "team": c.team, "robot": c.robot, "restart": c.restart,
+                               "position": [r3(c.position[0]), r3(c.position[1])], "rule": c.rule, "text": c.text}
+                              for c in self.calls],
             "coach_commands": [{"t": r3(c.t), "team": c.team, "match_mode": c.match_mode}
                                for c in self.coach_commands],
             "distance_run_m": {r: r3(d) for r, d in self.distance_run.items()},
@@ -746,7 +712,10 @@ def analyse(log: MatchLog, world: WorldDescription, default_attack: tuple[str, i
     # A goal stops play: the referee may see it (by geometry) a moment before the simulator's event.
     ends = [b + GOAL_GRACE if goal else b for (_, b), goal in zip(intervals, goal_stops(log.referee, intervals))]
     in_play = [any(a <= g.goal.t <= e for (a, _), e in zip(intervals, ends)) for g in credited]
-    goals = [g for g, ok in zip(credited, in_play) if ok]
+    refused = [t for t in (c.t for c in log.calls if c.kind == "goal_disallowed")]
+    disallowed = [g for g, ok in zip(credited, in_play) if ok and any(0.0 <= t - g.goal.t <= GOAL_GRACE
+                                                                        for t in refused)]
+    goals = [g for g, ok in zip(credited, in_play) if ok and g not in disallowed]
     stopped = [g for g, ok in zip(credited, in_play) if not ok]
     score = dict.fromkeys(teams, 0)
     for g in goals:
@@ -767,7 +736,8 @@ def analyse(log: MatchLog, world: WorldDescription, default_attack: tuple[str, i
     reaches, dropped = ball_reaches(log.tracks, intervals, free_distance, reach_distance, world.ball_name)
     return MatchSummary(
         teams=teams, start=log.start, end=log.end, running_time=sum(b - a for a, b in intervals),
-        goals=goals, goals_outside_play=stopped, score=score, referee_score=referee_score,
+        goals=goals, goals_outside_play=stopped, goals_disallowed=disallowed, score=score,
+        referee_score=referee_score,
         possession_seconds=possession(touch_sequence(log), intervals, log.end, teams),
         kicks=classify_kicks(log, intervals, attack, world.field),
         distance_run={n: distance_run(tr, teleport_step) for n, tr in sorted(log.tracks.items()) if is_robot_name(n)},
@@ -776,7 +746,7 @@ def analyse(log: MatchLog, world: WorldDescription, default_attack: tuple[str, i
         collisions=collisions(log.tracks, intervals, hull, contact_tolerance, separation_margin),
         ball_reaches=reaches, ball_reaches_dropped=dropped, ball_in_play=ball_in_play, hull_radius=hull,
         contact_tolerance=contact_tolerance, separation_margin=separation_margin, free_distance=free_distance,
-        reach_distance=reach_distance)
+        reach_distance=reach_distance, calls=sorted(log.calls, key=lambda c: c.t))
 
 
 def ball_time_in_play(ball: Track | None, intervals: Sequence[tuple[float, float]]) -> BallTime:

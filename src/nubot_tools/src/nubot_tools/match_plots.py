@@ -131,7 +131,7 @@ def plot_trajectories(tracks: dict[str, Track], teams: Sequence[str], field: Fie
 
 
 SHOT_STYLES = {"goal": ("*", "gold", 16), "saved": ("o", "tab:blue", 8), "blocked": ("X", "tab:red", 8),
-               "wide": ("^", "0.5", 7)}  # outcome -> (marker, colour, size)
+               "wide": ("^", "0.5", 7), "disallowed": ("*", "0.3", 12)}  # outcome -> (marker, colour, size)
 
 
 def plot_shot_map(shots: Sequence[Shot], teams: Sequence[str], field: FieldGeometry, path: Path,

@@ -6,9 +6,10 @@ Requires (any of these topics in the bag; the message definitions come from the 
 neither ROS nor the workspace's .msg files are needed, only the ``rosbags`` package):
 ``/sim_visual/model_states`` (nubot_common/ModelStates), ``/sim_visual/goal`` (GoalEvent),
 ``/sim_visual/kick`` (KickEvent), ``/sim_visual/ball_touch`` (BallTouch), ``/referee/state``
-(GameState), ``/<team>/receive_from_coach`` (CoachInfo), ``/clock`` (rosgraph_msgs/Clock) and
-``/sim_visual/world_description`` (WorldDescription, latched: the field, the ball's model name, the
-robots' radius).
+(GameState), ``/referee/foul`` (RefereeCall: the fouls and other calls, counted per team and kind),
+``/<team>/receive_from_coach`` (CoachInfo), ``/clock`` (rosgraph_msgs/Clock) and
+``/sim_visual/world_description`` (WorldDescription, latched: the field, the ball's model name, the robots'
+radius).
 Provides: ``report.json`` (with "field": the field used [m] and its source: bag, --field, flags or
 default; "shot_report": every shot and every goal explained, ``match_shots``), ``heatmap.png`` (running
 time [s] of the ball per cell), ``trajectories.png`` and ``shots.png`` (the shot map) in ``--out``
@@ -61,6 +62,7 @@ MATCH_TOPICS = {
     "/sim_visual/kick": "nubot_common/msg/KickEvent",
     "/sim_visual/ball_touch": "nubot_common/msg/BallTouch",
     "/referee/state": "nubot_common/msg/GameState",
+    "/referee/foul": "nubot_common/msg/RefereeCall",
 }
 WORLD_TOPIC, WORLD_TYPE = "/sim_visual/world_description", "nubot_common/msg/WorldDescription"
 CLOCK_TOPIC, CLOCK_TYPE = "/clock", "rosgraph_msgs/msg/Clock"
@@ -158,6 +160,9 @@ class MatchLogBuilder:
             log.referee.append(ma.RefereeState(
                 t, tuple(msg.teams), tuple(int(s) for s in msg.score), tuple(int(a) for a in msg.attack),
                 int(msg.half), float(msg.game_time), bool(msg.running), msg.last_event))
+        elif msgtype == MATCH_TOPICS["/referee/foul"]:
+            log.calls.append(ma.Call(t, msg.kind, msg.team, msg.robot, msg.restart, (msg.position.x, msg.position.y),
+                                     msg.rule, msg.text))
         elif msgtype == COACH_TYPE:
             team = COACH_TOPIC.match(topic)
             assert team is not None  # only coach topics have this type (read_match checks)
@@ -198,7 +203,8 @@ class MatchLogBuilder:
         log.touches.sort(key=lambda r: r.t)
         log.referee.sort(key=lambda r: r.t)
         log.coach.sort(key=lambda r: r.t)
-        records: list[Any] = [*log.goals, *log.kicks, *log.touches, *log.referee, *log.coach]
+        log.calls.sort(key=lambda r: r.t)
+        records: list[Any] = [*log.goals, *log.kicks, *log.touches, *log.referee, *log.coach, *log.calls]
         seen = [*times, *(r.t for r in records)]
         if self.clock is not None:
             seen.append(self.clock)
@@ -345,6 +351,9 @@ def format_summary(summary: ma.MatchSummary, bag: Path, out: Path, field_source:
             clock = f", half {g.half} at {g.game_time:.1f} s game time" if g.game_time is not None else ""
             who = f"own goal by {g.goal.last_touch}" if g.own_goal else (g.goal.last_touch or "no touch")
             lines.append(f"    goal at {g.goal.t:.1f} s for {g.team or '?'} ({who}{clock})")
+    for g in summary.goals_disallowed:
+        lines.append(f"    no goal: ball in the goal at {'+x' if g.goal.side > 0 else '-x'} at {g.goal.t:.1f} s, "
+                     f"disallowed by the referee (last touch {g.goal.last_touch or 'nobody'})")
     for g in summary.goals_outside_play:
         lines.append(f"    not counted: ball in the goal at {'+x' if g.goal.side > 0 else '-x'} at {g.goal.t:.1f} s "
                      f"while play was stopped (last touch {g.goal.last_touch or 'nobody'})")
@@ -355,7 +364,8 @@ def format_summary(summary: ma.MatchSummary, bag: Path, out: Path, field_source:
                                                            for t, c in passes.items()))
     if shots is not None:
         lines.append("  shots (on target; goal/saved/blocked/wide): " + ", ".join(
-            f"{t} {c['shots']} ({c['on_target']}; {c['goal']}/{c['saved']}/{c['blocked']}/{c['wide']})"
+            f"{t} {c['shots']} ({c['on_target']}; {c['goal']}/{c['saved']}/{c['blocked']}/{c['wide']}"
+            + (f", {c['disallowed']} disallowed" if c["disallowed"] else "") + ")"
             for t, c in shots.shot_counts().items()))
         lines.append("  goals from: " + ", ".join(f"{k} {n}" for k, n in shots.cause_counts().items() if n)
                      if shots.goals else "  goals from: no goal")
@@ -373,6 +383,10 @@ def format_summary(summary: ma.MatchSummary, bag: Path, out: Path, field_source:
     if summary.ball_reaches_dropped:
         line += f"; {summary.ball_reaches_dropped} left out (running time ended first)"
     lines.append(line)
+    fouls = summary.foul_counts()
+    lines.append("  fouls: " + "; ".join(
+        f"{t} " + (", ".join(f"{k.replace('_', ' ')} {n}" for k, n in c.items() if n) or "none")
+        for t, c in fouls.items()))
     events = summary.referee_events
     lines.append(f"  referee events: {len(events)}")
     shown = events if len(events) <= 12 else [*events[:6], *events[-5:]]

@@ -14,9 +14,9 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
   whose straight line crosses the attacked goal line within ``SHOT_WIDE_MARGIN`` (1 m) outside a post; on target:
   that line crosses between the posts (a lob: also below the bar, in a flight without drag);
 - a shot's outcome, by the first of: a goal for its team within ``SHOT_TIME`` (4 s) with no touch by the shooter's
-  team in between (touches by defenders deflect it) -> goal; a touch by another robot: the defending goalie ->
-  saved, another defender -> blocked, a teammate -> wide; a stop of play, the shooter's own next touch or the end
-  of the recording -> wide;
+  team in between (touches by defenders deflect it) -> goal (disallowed: the referee did not count it); a touch by
+  another robot: the defending goalie -> saved, another defender -> blocked, a teammate -> wide; a stop of play, the
+  shooter's own next touch or the end of the recording -> wide;
 - a goal's shot: the shot that ended in it; without one the ball was pushed in (no kick) or it is an own goal;
   scorer: the shooter, else the last robot of the scoring team to touch the ball (own goal: the defender who
   touched it last); assist: the teammate whose completed pass the scorer received last, within ``ASSIST_TIME``
@@ -58,7 +58,7 @@ SCRAMBLE_TIME = 3.0  # [s]
 SCRAMBLE_TOUCHES = 3
 TURNOVER_TIME = 10.0  # [s]
 GRAVITY = 9.8  # [m/s^2]
-OUTCOMES = ("goal", "saved", "blocked", "wide")
+OUTCOMES = ("goal", "saved", "blocked", "wide", "disallowed")
 CAUSES = ("own goal", "set piece", "rebound", "scramble", "turnover", "build-up")
 _SET_PIECES = {1, 3, 5, 7, 9, 11}  # MatchMode OUR_KICKOFF .. OUR_FREEKICK, in the team's own view
 _STARTROBOT = 15
@@ -67,7 +67,8 @@ DEFINITIONS = {
     "shot": f"a kick in play towards the attacked goal: any lob (kind 1) towards the attacked half, or a ground "
             f"kick whose straight line crosses the attacked goal line within {ma.SHOT_WIDE_MARGIN:g} m outside a post; "
             "on target: between the posts (a lob also below the bar, flight without drag)",
-    "shot_outcome": f"goal: a goal for the shooter's team within {SHOT_TIME:g} s, no touch by that team in between; "
+    "shot_outcome": f"goal: a goal for the shooter's team within {SHOT_TIME:g} s, no touch by that team in between "
+                    "(disallowed: one the referee did not count); "
                     "else the first touch by another robot: the defending goalie -> saved, another defender -> "
                     "blocked, a teammate -> wide; a stop of play, the shooter's own next touch or the end -> wide",
     "own_goal": "the defenders touched the ball last and no shot of the scoring team went in (a deflected shot is the "
@@ -239,7 +240,8 @@ def _default_attack(summary: ma.MatchSummary) -> tuple[str, int]:
 def _outcome(k: ma.KickOutcome, side: int, summary: ma.MatchSummary, touches: Sequence[ma.Touch],
              touch_times: Sequence[float], stop: float, goalies: dict[str, str]) -> tuple[str, str]:
     t0 = k.kick.t
-    goal = next((g for g in summary.goals if t0 < g.goal.t <= t0 + SHOT_TIME and g.goal.side == side), None)
+    goal = next((g for g in (*summary.goals, *summary.goals_disallowed)
+                 if t0 < g.goal.t <= t0 + SHOT_TIME and g.goal.side == side), None)
     for touch in touches[_first_after(touch_times, t0):]:
         if goal is not None and goal.goal.t <= touch.t:
             break
@@ -256,7 +258,7 @@ def _outcome(k: ma.KickOutcome, side: int, summary: ma.MatchSummary, touches: Se
             continue  # a defender deflected it on its way in
         return ("saved" if goalies.get(team_of(touch.robot)) == touch.robot else "blocked"), touch.robot
     if goal is not None:
-        return "goal", ""
+        return ("disallowed" if goal in summary.goals_disallowed else "goal"), ""
     return "wide", ""
 
 

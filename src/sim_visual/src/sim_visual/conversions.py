@@ -13,10 +13,10 @@ from sensor_msgs.msg import Imu
 
 from nubot_common.conversions import stamp
 from nubot_common.geometry import quaternion_to_yaw, yaw_to_quaternion
-from nubot_common.msg import BallTouch, GoalEvent, KickEvent, ModelStates, OdoInfo, Point3d
+from nubot_common.msg import BallHolder, BallTouch, GoalEvent, KickEvent, ModelStates, OdoInfo, Point3d
 from sim_visual import SimVisualError
 from sim_visual.odometry import ImuReading, OdometryReading
-from sim_visual.simulator import BallKicked, BallTouched, GoalScored
+from sim_visual.simulator import BallKicked, BallTouched, GoalScored, HolderChanged
 from sim_visual.world import BallState, RobotState
 
 
@@ -77,6 +77,14 @@ def ball_touch_msg(touch: BallTouched) -> BallTouch:
     msg.header.stamp = stamp(touch.time)
     msg.robot = touch.robot
     msg.ball_pos = Point3d(touch.ball.x, touch.ball.y, touch.ball.z)
+    return msg
+
+
+def ball_holder_msg(change: HolderChanged) -> BallHolder:
+    msg = BallHolder()
+    msg.header.stamp = stamp(change.time)
+    msg.robot = change.robot
+    msg.ball_pos = Point3d(change.ball.x, change.ball.y, change.ball.z)
     return msg
 
 

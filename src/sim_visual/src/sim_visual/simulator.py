@@ -6,7 +6,8 @@ services (``model_states``, ``set_model_state``, ``reset``, ``spawn_robot``,
 ``delete_robot``), ``switch_ends`` (half time), ``observe`` (noisy omni-vision frame of one robot; its noise-free
 truth: ``observe_truth``; a goalie's RGB-D ball: ``observe_ball3d``), the robot's own sensors for omni_vision
 (``camera_frame``, ``odometry``, ``inertial_heading``), for front_vision (``front_camera_frame``) and for
-kinect_ball (``rgbd_frames``), and ``step`` which returns the events of that step (goals, kicks, captures). All
+kinect_ball (``rgbd_frames``), and ``step`` which returns the events of that step (goals, kicks, touches,
+captures, releases, the holder changing). All
 randomness comes from ``SimConfig.seed``: the percepts' noise from one ``numpy.random.Generator``, the
 sensors' from one of their own derived from the same seed.
 Every state from outside is checked before it reaches ODE (finite, inside the arena, speeds within
@@ -112,7 +113,16 @@ class BallTouched:
     ball: BallState
 
 
-SimEvent = GoalScored | BallKicked | BallCaptured | BallReleased | BallTouched
+@dataclass(frozen=True)
+class HolderChanged:
+    """The robot whose ball handler holds the ball changed (a capture, a kick, a release, a slip)."""
+
+    time: float
+    robot: str  # "" nobody
+    ball: BallState
+
+
+SimEvent = GoalScored | BallKicked | BallCaptured | BallReleased | BallTouched | HolderChanged
 
 
 @dataclass
@@ -150,6 +160,7 @@ class Simulator:
         self.holder: str | None = None
         self.last_touch = ""
         self._reported_touch = ""
+        self._reported_holder = ""
         self._goal_open = True  # False after a goal or a placement behind a goal line, until the ball is back in play
         for spawn in config.robots:
             self.spawn_robot(spawn)
@@ -451,6 +462,9 @@ class Simulator:
             self._reported_touch = self.last_touch
             if self.last_touch:
                 events.append(BallTouched(self.time, self.last_touch, self.world.ball_state()))
+        if (self.holder or "") != self._reported_holder:  # captures, kicks, releases and slips, however made
+            self._reported_holder = self.holder or ""
+            events.append(HolderChanged(self.time, self._reported_holder, self.world.ball_state()))
         goal = self._detect_goal()
         if goal is not None:
             events.append(goal)

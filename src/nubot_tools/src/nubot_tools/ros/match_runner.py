@@ -409,8 +409,8 @@ def play(argv: list[str] | None) -> int:
                 print(f"  robots without a world model after 180 s: {', '.join(silent)}; playing on", flush=True)
             print(f"  {len(names) - len(silent)} robots ready; kick-off", flush=True)
             teams_yaml = out / "referee_teams.yaml"
-            teams_yaml.write_text("teams:\n" + "".join(f"  - {{prefix: {c.prefix}, attack: {c.attack}}}\n"
-                                                         for c in configs))
+            teams_yaml.write_text("teams:\n" + "".join(
+                f"  - {{prefix: {c.prefix}, attack: {c.attack}, goalie: {c.goalie}}}\n" for c in configs))
             referee = master.launch("referee", ["roslaunch", "--skip-log-check", "coach4sim", "referee.launch",
                                                 f"half_duration:={args.half_seconds}", f"halves:={args.halves}",
                                                 f"config:={teams_yaml}"])
