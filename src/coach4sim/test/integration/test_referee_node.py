@@ -142,6 +142,55 @@ def test_coach_watch_prints_a_robots_world_model_and_the_score(match_world, ros_
     assert "nubot - rival" in result.stdout, "the score from /referee/state"
 
 
+def test_a_ball_carried_over_3_m_is_called_and_the_match_report_counts_the_foul(match_world, ros_master, tmp_path):
+    """RC-12.0.1 over real ROS: nubot1 takes the ball and is moved 4 m with it; the referee calls carrying on
+    /referee/foul, gives rival a free kick, and the report of the recorded bag counts the foul."""
+    import json
+
+    import rospy
+
+    from nubot_common.msg import RefereeCall
+    from nubot_common.srv import BallHandle
+    from nubot_tools import match_report
+
+    watcher, _, referee = match_world
+    bag = tmp_path / "foul.bag"
+    recorder = ros_master.launch("foul_recorder", [
+        "rosbag", "record", "-O", str(bag), "/referee/foul", "/referee/state", "/sim_visual/model_states",
+        "/sim_visual/ball_holder", "/sim_visual/ball_touch", "/sim_visual/world_description", "/clock",
+        "__name:=foul_recorder"])
+    calls = []
+    sub = rospy.Subscriber("/referee/foul", RefereeCall, calls.append, queue_size=10)
+    try:
+        time.sleep(1.0)  # the recorder has subscribed
+        assert watcher.command("STARTROBOT").accepted
+        watcher.wait_for(lambda: watcher.game.running, timeout=5, what="play on")
+        watcher.set_model("nubot1", -4.0, 1.0)
+        watcher.set_model("football", -4.0 + 0.45, 1.0, z=0.11)  # in front of it
+        assert watcher.service("/nubot1/BallHandle", BallHandle)(1).BallIsHolding == 1
+        for k in range(1, 9):  # 4 m along +x, the held ball with it, at 2.5 m/s
+            watcher.set_model("nubot1", -4.0 + 0.5 * k, 1.0)
+            time.sleep(0.2)
+            if calls:
+                break
+        watcher.wait_for(lambda: calls, timeout=5, what="the referee's call")
+        call = calls[0]
+        assert (call.kind, call.team, call.robot, call.rule) == ("carrying", "nubot", "nubot1", "RC-12.0.1")
+        assert call.restart == "free kick for rival" and call.position.x > -3.6 + 3.0  # caught at x = -3.57
+        watcher.wait_for(lambda: (watcher.mode("nubot"), watcher.mode("rival")) == (12, 11), timeout=5,
+                         what="OPP_FREEKICK for nubot, OUR_FREEKICK for rival")
+        watcher.wait_for(lambda: "carrying by nubot1" in watcher.game.last_event, timeout=3, what="the state")
+        time.sleep(0.5)
+    finally:
+        sub.unregister()
+        recorder.stop()
+    assert match_report.main([str(bag), "--out", str(tmp_path / "report")]) == 0
+    report = json.loads((tmp_path / "report" / "report.json").read_text())
+    assert report["fouls"]["nubot"]["carrying"] == 1 and sum(report["fouls"]["rival"].values()) == 0
+    assert report["referee_calls"][0]["robot"] == "nubot1"
+    assert "carrying by nubot1" in referee.log_text()
+
+
 def test_without_a_referee_the_coach_publishes_the_command_itself(match_world, ros_master):
     """Stops the referee: keep this test last in the module."""
     watcher, _, referee = match_world
@@ -156,3 +205,4 @@ def test_without_a_referee_the_coach_publishes_the_command_itself(match_world, r
     heard = watcher.modes_since("rival", since)
     assert set(heard) == {5} and len(heard) >= 20, f"about 2 s / 30 ms messages, heard {len(heard)}"
     assert watcher.modes_since("nubot", since) == [], "only the named team"
+

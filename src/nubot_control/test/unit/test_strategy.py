@@ -172,3 +172,93 @@ def test_on_the_22_by_14_field_the_robots_take_its_kickoff_spots(make_match):
     for name in ("nubot2", "nubot3", "nubot4", "nubot5"):
         s = match.sim.world.robot_state(name)
         assert s.x < 0.0 and math.hypot(s.x, s.y) > 2.0, f"{name} respects the opponent kickoff"
+
+
+# --- choosing the shot, pressing, marking, keeping the rules ----------------------------------------------------
+def holder_state(me_xy, heading, opponents, mates=(), t=1.0, carried_from=None):
+    me = RobotReport(2, Pose2D(*me_xy, heading), holding=True, role=Role.ACTIVE, role_time=5.0)
+    ball = FusedBall(me_xy[0] + 0.43 * math.cos(heading), me_xy[1] + 0.43 * math.sin(heading))
+    mates = (RobotReport(1, Pose2D(-8.5, 0, 0)), *mates)
+    return team_state(me, mates, ball, opponents, t=t)
+
+
+def test_a_good_chance_is_taken_and_a_poor_one_is_not():
+    goalie = (8.6, 0.0)
+    strategy = Strategy(ControlParams(), WorldDescription(), 2)
+    near = strategy.step(holder_state((4.0, -0.3), math.atan2(0.65, 4.6), [goalie]))  # facing the far corner
+    assert near.action == Action.SHOOT
+    far = Strategy(ControlParams(), WorldDescription(), 2).step(holder_state((-2.0, 0.0), 0.0, [goalie]))
+    assert far.action == Action.DRIBBLE and far.kick is None, "from 11 m it carries the ball on"
+
+
+def test_a_shot_waits_until_the_robot_faces_its_aim():
+    strategy = Strategy(ControlParams(), WorldDescription(), 2)
+    out = strategy.step(holder_state((4.0, -0.3), 0.8, [(8.6, 0.0)]))  # facing well off the goal
+    assert out.action == Action.SHOOT and out.kick is None and abs(out.velocity.w) > 0.0
+
+
+def test_a_blocked_lane_from_close_in_is_lobbed_over_the_defender():
+    strategy = Strategy(ControlParams(), WorldDescription(), 2)
+    heading = math.atan2(0.0 - 0.0, 9.0 - 4.43)
+    out = strategy.step(holder_state((4.0, 0.0), heading, [(6.3, 0.0), (6.4, 0.7), (6.4, -0.7)]))  # a wall 2 m out
+    assert out.action == Action.SHOOT and out.kick is not None and out.kick.kind == 1
+
+
+def test_a_pressed_carrier_passes_to_a_free_teammate_rather_than_shoot_a_poor_chance():
+    mate = RobotReport(3, Pose2D(5.0, 3.5, 0))
+    state = holder_state((0.0, 0.0), math.atan2(3.5, 5.0), [(1.3, -0.5), (8.6, 0.0)], mates=(mate,))
+    out = Strategy(ControlParams(), WorldDescription(), 2).step(state)
+    assert out.action == Action.PASS and out.pass_cmd.catch_id == 3
+
+
+def test_a_carrier_lets_the_ball_go_before_3_m():
+    """With nobody to pass to and no shot, it carries the ball at most carry_limit from where it caught it."""
+    strategy = Strategy(ControlParams(), WorldDescription(), 2)
+    me = RobotReport(2, Pose2D(-4.0, 0.0, 0.0), holding=True, role=Role.ACTIVE, role_time=5.0)
+    mates = (RobotReport(1, Pose2D(-8.5, 0, 0)),)
+    dt, kicked_at = 1 / 33, None
+    for k in range(250):
+        ball = FusedBall(me.pose.x + 0.43 * math.cos(me.pose.theta), me.pose.y + 0.43 * math.sin(me.pose.theta))
+        out = strategy.step(team_state(me, mates, ball, [(8.6, 0.0)], t=k * dt))
+        if out.kick is not None:
+            kicked_at = (ball.x, ball.y)
+            break
+        vx, vy = rotate(out.velocity.vx, out.velocity.vy, me.pose.theta)
+        me = replace(me, pose=Pose2D(me.pose.x + vx * dt, me.pose.y + vy * dt, me.pose.theta + out.velocity.w * dt))
+    assert kicked_at is not None
+    assert math.dist(kicked_at, (-4.0 + 0.43, 0.0)) < 3.0, "released inside the 3 m circle"
+
+
+def test_the_active_robot_presses_an_opponent_playing_the_ball_from_between_ball_and_goal():
+    me = RobotReport(2, Pose2D(-1.0, 2.0, 0), role=Role.ACTIVE, role_time=5.0)
+    carrier = (1.0, 0.0)
+    state = team_state(me, (RobotReport(1, Pose2D(-8.5, 0, 0)),), FusedBall(0.6, 0.0), (carrier, (8.6, 0.0)))
+    out = Strategy(ControlParams(), WorldDescription(), 2).step(state)
+    assert out.action == Action.DEFEND and out.role == Role.ACTIVE
+    assert out.target[0] < 0.6 and abs(out.target[1]) < 0.1, "on the line to our goal"
+    assert math.dist(out.target, (0.6, 0.0)) == pytest.approx(ControlParams().play.press_distance)
+
+
+def test_when_they_have_the_ball_the_assistant_marks_their_second_most_dangerous_robot():
+    mates = (RobotReport(1, Pose2D(-8.5, 0, 0)), RobotReport(2, Pose2D(2.0, 0.5, 0)),
+             RobotReport(4, Pose2D(-2.0, -2.0, 0)), RobotReport(5, Pose2D(-4.0, 0, 0)))
+    me = RobotReport(3, Pose2D(-1.0, 3.0, 0))
+    opponents = ((3.0, 0.0), (-5.0, -2.0), (-3.0, 3.5), (8.6, 0.0))  # the carrier at the ball, two lurking
+    state = team_state(me, mates, FusedBall(2.6, 0.0), opponents)
+    out = Strategy(ControlParams(), WorldDescription(), 3).step(state)
+    assert (out.role, out.action) == (Role.ASSISTANT, Action.MARK), "without the ball it would take its spot at (5, 3)"
+    assert math.dist(out.target, (-3.0, 3.5)) == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("agent", [3, 4, 5])
+def test_field_robots_never_aim_into_the_goal_areas_and_supporters_not_into_the_penalty_areas(agent):
+    from nubot_control.areas import in_area
+
+    mates = tuple(RobotReport(i, Pose2D(-7.5 + 0.3 * i, 0.5 * i - 1.0, 0)) for i in range(1, 6) if i != agent)
+    me = RobotReport(agent, Pose2D(-6.0, 0.0, 0))
+    state = team_state(me, mates, FusedBall(-8.0, 0.5), ((-7.0, 2.5), (8.6, 0.0)))
+    out = Strategy(ControlParams(), WorldDescription(), agent).step(state)
+    field = FieldGeometry()
+    assert not in_area(*out.target, field, own=True, goal_area=True)
+    if out.role not in (Role.ACTIVE, Role.GOALIE):
+        assert not in_area(*out.target, field, own=True), f"{out.role.name} aims into our penalty area"
