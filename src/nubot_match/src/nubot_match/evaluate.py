@@ -40,7 +40,7 @@ from nubot_match.config import MatchConfig, match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.record import MatchLogRecorder
 from nubot_match.statistics import MatchResult, plot_goal_difference, summarise, table_text, verdict
-from nubot_tools.match_analysis import FOUL_KINDS, MatchLog, MatchSummary, analyse, running_intervals, stopped_time
+from nubot_tools.match_analysis import FOUL_KINDS, MatchSummary, analyse
 from nubot_tools.match_shots import ShotReport, explain
 from nubot_tools.workspace import TEAMS, WORKSPACE
 
@@ -90,11 +90,10 @@ def team_figures(summary: MatchSummary, shots: ShotReport, team: str) -> dict[st
             "fouls": float(sum(n for k, n in summary.foul_counts().get(team, {}).items() if k in FOUL_KINDS))}
 
 
-def match_counts(summary: MatchSummary, shots: ShotReport, log: MatchLog) -> dict[str, float]:
+def match_counts(summary: MatchSummary, shots: ShotReport) -> dict[str, float]:
     """The whole match's ``statistics.MATCH_COUNTS``, its goals by what led to them (goals_<cause>)."""
-    intervals = running_intervals(log.referee, log.start, log.end)
     passes = summary.pass_counts().values()
-    counts = {"running_s": summary.running_time, "stopped_s": stopped_time(log.referee, intervals),
+    counts = {"running_s": summary.running_time, "stopped_s": summary.stopped_time,
               "goals": float(sum(summary.score.values())), "shots": float(len(shots.shots)),
               "shots_scored": float(sum(s.outcome == "goal" for s in shots.shots)),
               "passes_tried": float(sum(c["tried"] for c in passes)),
@@ -123,7 +122,7 @@ def play_match(job: MatchJob) -> MatchResult:
     return MatchResult(job.index, job.seed, home_team.config.attack,
                        team_figures(summary, shots, home_team.config.prefix),
                        team_figures(summary, shots, away_team.config.prefix), round(match.time, 3), round(wall, 3),
-                       round(rss, 1), len(summary.referee_events), job.index // 2, match_counts(summary, shots, log),
+                       round(rss, 1), len(summary.referee_events), job.index // 2, match_counts(summary, shots),
                        shots.to_json()["goals"])
 
 

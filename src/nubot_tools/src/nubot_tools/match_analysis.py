@@ -225,6 +225,7 @@ class MatchSummary:
     free_distance: float = 1.0  # [m]
     reach_distance: float = 0.45  # [m]
     calls: list[Call] = field(default_factory=list)  # the referee's fouls and other calls
+    stopped_time: float = 0.0  # [s] play stood still within the halves (``stopped_time``)
 
     @property
     def score_agrees(self) -> bool:
@@ -298,6 +299,7 @@ class MatchSummary:
             "end_s": r3(self.end),
             "duration_s": r3(self.end - self.start),
             "running_time_s": r3(self.running_time),
+            "stopped_time_s": r3(self.stopped_time),
             "score": self.score,
             "score_from_referee": self.referee_score,
             "score_agrees": self.score_agrees,
@@ -746,7 +748,8 @@ def analyse(log: MatchLog, world: WorldDescription, default_attack: tuple[str, i
         collisions=collisions(log.tracks, intervals, hull, contact_tolerance, separation_margin),
         ball_reaches=reaches, ball_reaches_dropped=dropped, ball_in_play=ball_in_play, hull_radius=hull,
         contact_tolerance=contact_tolerance, separation_margin=separation_margin, free_distance=free_distance,
-        reach_distance=reach_distance, calls=sorted(log.calls, key=lambda c: c.t))
+        reach_distance=reach_distance, calls=sorted(log.calls, key=lambda c: c.t),
+        stopped_time=stopped_time(log.referee, intervals))
 
 
 def ball_time_in_play(ball: Track | None, intervals: Sequence[tuple[float, float]]) -> BallTime:

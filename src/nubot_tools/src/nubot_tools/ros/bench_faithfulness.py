@@ -11,9 +11,12 @@ seed=s)``, ``MatchLogRecorder``, ``nubot_tools.match_analysis.analyse``) and a R
 (``run_match.py --half-seconds H --halves 2 --seed s``, its ``report.json``), and compares per match:
 
 - goals per minute of running time (both teams);
-- passes completed (both teams);
+- shots per minute of running time (both teams, ``match_shots``);
+- passes completed (both teams), and their share of the passes tried;
 - possession share of the home team (nubot) of running time;
-- robot-robot collisions per minute of running time.
+- robot-robot collisions per minute of running time;
+- fouls per minute of running time (both teams, ``match_analysis.FOUL_KINDS``);
+- the share of the match the ball is in play (running time over running and stopped time within the halves).
 
 Provides: ``<out>/faithfulness.json`` (per metric the mean and 95 % Student-t interval,
 ``nubot_match.statistics.mean_interval``, for lockstep and ROS and whether the two intervals overlap; every
@@ -37,21 +40,39 @@ from pathlib import Path
 from nubot_tools.workspace import WORKSPACE
 
 METRICS = {"goals_per_minute": "goals per minute of running time",
+           "shots_per_minute": "shots per minute of running time",
            "passes_completed": "passes completed per match",
+           "pass_completion": "share of passes completed",
            "possession_share": "home team's possession share",
-           "collisions_per_minute": "robot-robot collisions per minute"}
+           "collisions_per_minute": "robot-robot collisions per minute",
+           "fouls_per_minute": "fouls per minute of running time",
+           "running_share": "share of the match in play"}
 HOME_TEAM = "nubot"  # the first team of run_match.py and of match_config, kicking off at -x
 QUICK_SEEDS, QUICK_HALF_SECONDS = 2, 10.0
 
 
 def figures(report: dict, home: str = HOME_TEAM) -> dict[str, float]:
-    """The compared metrics of one match from its report (``MatchSummary.to_json()`` or report.json)."""
+    """The compared metrics of one match from its report (``MatchSummary.to_json()`` with the ``ShotReport`` under
+    "shot_report", or a match_report's report.json)."""
+    from nubot_tools.match_analysis import FOUL_KINDS
+
     minutes = report["running_time_s"] / 60.0
+
+    def per_minute(n: float) -> float:
+        return round(n / minutes, 4) if minutes > 0 else 0.0
+
     goals = sum(report["score"].values())
-    return {"goals_per_minute": round(goals / minutes, 4) if minutes > 0 else 0.0,
-            "passes_completed": float(sum(p["completed"] for p in report["passes"].values())),
+    shots = sum(c["shots"] for c in report["shot_report"]["counts"].values())
+    tried = sum(p["tried"] for p in report["passes"].values())
+    completed = sum(p["completed"] for p in report["passes"].values())
+    fouls = sum(n for team in report["fouls"].values() for kind, n in team.items() if kind in FOUL_KINDS)
+    played = report["running_time_s"] + report.get("stopped_time_s", 0.0)
+    return {"goals_per_minute": per_minute(goals), "shots_per_minute": per_minute(shots),
+            "passes_completed": float(completed), "pass_completion": round(completed / tried, 4) if tried else 0.0,
             "possession_share": float(report["possession"].get(home, {}).get("share", 0.0)),
             "collisions_per_minute": float(report["collisions"]["per_minute"]),
+            "fouls_per_minute": per_minute(fouls),
+            "running_share": round(report["running_time_s"] / played, 4) if played > 0 else 0.0,
             "running_time_s": float(report["running_time_s"]), "goals": float(goals)}
 
 
@@ -60,6 +81,7 @@ def play_lockstep(seed: int, half_seconds: float) -> dict:
     from nubot_match.engine import LockstepMatch
     from nubot_match.record import MatchLogRecorder
     from nubot_tools.match_analysis import analyse
+    from nubot_tools.match_shots import explain
 
     config = match_config(half_seconds=half_seconds, halves=2, seed=seed)
     recorder = MatchLogRecorder()
@@ -69,9 +91,11 @@ def play_lockstep(seed: int, half_seconds: float) -> dict:
     match.run()
     wall = time.perf_counter() - start
     home = config.teams[0].config
-    summary = analyse(recorder.finish(), config.world, (home.prefix, home.attack))
+    log = recorder.finish()
+    summary = analyse(log, config.world, (home.prefix, home.attack))
+    report = {**summary.to_json(), "shot_report": explain(summary, log).to_json()}
     return {"seed": seed, "sim_seconds": round(match.time, 2), "wall_seconds": round(wall, 2),
-            **figures(summary.to_json(), home.prefix)}
+            **figures(report, home.prefix)}
 
 
 def play_ros(seed: int, half_seconds: float, folder: Path) -> dict:
