@@ -73,6 +73,8 @@ class RefereeParams:
     half_duration: float = 300.0  # game clock of one half (runs only while the ball is in play) [s]
     halves: int = 2
     half_time_break: float = 10.0  # STOPROBOT at the end of a half, the next half's kickoff this much later [s]
+    half_limit_factor: float = 3.0  # a half ends at the latest this many half_durations of sim time after its kickoff
+    # (plus half_time_break), however little the game clock ran: a match whose play keeps stopping still ends
     switch_ends: bool = True  # the teams change ends at half time
     throw_in_inset: float = 0.1  # throw-in ball centre this far inside the side line [m]
     corner_inset: float = 0.25  # corner-kick ball centre this far inside both lines [m]
@@ -92,6 +94,8 @@ class RefereeParams:
         require_positive(self, "setup_time", "restart_timeout", "in_play_distance", "stuck_time",
                   "stuck_distance", "stuck_radius", "half_duration", "set_piece_time", "carry_distance",
                   "release_distance", "charge_speed", "push_time", "area_time")
+        if self.half_limit_factor < 1.0:
+            raise ValueError(f"half_limit_factor must be at least 1, got {self.half_limit_factor}")
         require_non_negative(self, "push_speed")
         if self.area_robots < 1:
             raise ValueError(f"area_robots must be at least 1, got {self.area_robots}")

@@ -100,6 +100,7 @@ class AutomaticReferee:
         self._last_ball: tuple[float, float] | None = None  # where the ball was at the latest update
         self._slow_called = False  # PLAY: the set piece was not taken in time (called once)
         self._set_piece_deadline = 0.0  # PLAY: the restart team must have played the ball by then [s]
+        self._half_began = 0.0  # sim time the half began [s]
         self.fouls = FoulWatch(params)
         self.goal_check = GoalCheck()
 
@@ -140,7 +141,8 @@ class AutomaticReferee:
             scorer = self.game.goal(goal_side)
             goal_text = (f"goal for {scorer or 'the absent opponents'} in the goal at {_goal_name(goal_side)} "
                          f"(last touch {toucher or 'nobody'}), score {self.game.score_text()}")
-        if self.game.game_time >= p.half_duration:
+        if self.game.game_time >= p.half_duration or snap.time - self._half_began >= p.half_limit_factor * \
+                p.half_duration + p.half_time_break:
             return self._end_half(snap.time, goal_text)
         if goal_side is not None:
             return self._restart(snap.time, -goal_side, MatchMode.OUR_KICKOFF, (0.0, 0.0), f"{goal_text}: ")
@@ -269,6 +271,7 @@ class AutomaticReferee:
     # --- the sequences --------------------------------------------------------------------------
     def _start_half(self, half: int, now: float) -> RefereeDecision:
         self.game.start_half(half)
+        self._half_began = now
         self._between_halves = False
         first = self.game.teams[0].spec.attack  # the first team kicks off the odd halves, wherever it plays
         side = first if half % 2 else -first

@@ -366,3 +366,18 @@ def test_on_the_22_by_14_field_the_lines_are_its_lines(make_match):
     small.kickoff_and_play()
     small.ball = (0.0, 6.5, 0.11)
     assert "throw-in" in small.step(0.25, last_touch="rival2").event
+
+
+def test_a_half_whose_play_keeps_stopping_still_ends(make_match):
+    """The game clock runs only in play: a half stopped again and again ends at half_limit_factor half lengths."""
+    match = make_match(half_duration=20.0, half_time_break=5.0, half_limit_factor=3.0)
+    match.kickoff_and_play()
+    ends = []
+    for _ in range(80):  # a foul every second: two robots of rival in their own penalty area, play stops
+        match.robots = {"rival2": (7.0, 2.0), "rival3": (7.2, -2.0)}
+        decision = match.step(1.0)
+        if decision is not None and decision.commands[0][1].name == "STOPROBOT":
+            ends.append(match.time)
+            break
+    assert ends and ends[0] == pytest.approx(3.0 * 20.0 + 5.0, abs=1.0)
+    assert match.game.game_time < 20.0
