@@ -72,20 +72,19 @@ def goal_event_msg(goal: GoalScored) -> GoalEvent:
     return msg
 
 
-def ball_touch_msg(touch: BallTouched) -> BallTouch:
-    msg = BallTouch()
-    msg.header.stamp = stamp(touch.time)
-    msg.robot = touch.robot
-    msg.ball_pos = Point3d(touch.ball.x, touch.ball.y, touch.ball.z)
+def _robot_and_ball(msg: BallTouch | BallHolder, event: BallTouched | HolderChanged) -> BallTouch | BallHolder:
+    msg.header.stamp = stamp(event.time)
+    msg.robot = event.robot
+    msg.ball_pos = Point3d(event.ball.x, event.ball.y, event.ball.z)
     return msg
+
+
+def ball_touch_msg(touch: BallTouched) -> BallTouch:
+    return _robot_and_ball(BallTouch(), touch)
 
 
 def ball_holder_msg(change: HolderChanged) -> BallHolder:
-    msg = BallHolder()
-    msg.header.stamp = stamp(change.time)
-    msg.robot = change.robot
-    msg.ball_pos = Point3d(change.ball.x, change.ball.y, change.ball.z)
-    return msg
+    return _robot_and_ball(BallHolder(), change)
 
 
 def kick_event_msg(kick: BallKicked) -> KickEvent:
