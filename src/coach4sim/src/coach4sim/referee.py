@@ -1,23 +1,28 @@
-"""The automatic referee: MSL restart rules applied to snapshots of the simulated world.
+"""The automatic referee: the MSL rules applied to snapshots of the simulated world.
 
-Requires: ``RefereeParams`` (field geometry [m], times [s]), a ``GameController``
-and, each update, a ``WorldSnapshot`` (sim time [s], ball centre and robot positions
-in the world frame [m], the last robot to touch the ball, and the goals, kicks and
-touches seen since the previous snapshot).
-Provides: ``AutomaticReferee.update(snapshot)`` -> ``RefereeDecision | None``: the
-commands now in force for each team (in its own view, OUR_/OPP_ mirrored), where to
-place the ball (world frame [m], at rest) and the decision in words. The referee
-applies each decision to the game itself (score, commands, half, last event).
+Requires: ``RefereeParams`` (field geometry [m], times [s], the fouls' numbers), a ``GameController``
+and, each update, a ``WorldSnapshot`` (sim time [s], ball centre and robot positions in the world
+frame [m], the last robot to touch the ball, the robot holding it, and the goals, kicks and touches
+seen since the previous snapshot).
+Provides: ``AutomaticReferee.update(snapshot)`` -> ``RefereeDecision | None``: the commands now in
+force for each team (in its own view, OUR_/OPP_ mirrored), where to place the ball (world frame [m],
+at rest), the decision in words and the calls made (``fouls.RefereeCall``). The referee applies each
+decision to the game itself (score, commands, half, last event).
 
-Rules (MSL, simplified where noted): kickoff for the first team at the start; goal ->
-score and kickoff for the conceding team; ball wholly over a side line -> throw-in for
-the team that did not touch it last; over a goal line outside the goal -> goal kick
-(attacker touched last) or corner kick (defender touched last); no known last toucher
--> dropped ball; a contested ball that does not move -> dropped ball; a restart not
-taken in time -> dropped ball; the end of a half -> STOPROBOT, then the next half's
-kickoff for the other team after a break, the teams having changed ends at the end of
-the half (``switch_ends``: the decision asks the simulator to turn the field round). Each
-restart is the set-piece command with the ball placed, then STARTROBOT after ``setup_time``.
+Rules (MSL, simplified where noted; docs/rules.md): kickoff for the first team at the start; goal ->
+score and kickoff for the conceding team, unless it does not count (``fouls.GoalCheck``: straight
+from the scoring team's own set piece or from a dropped ball, or from a shot in its own half:
+kick-off for the other team or a goal kick); a foul (``fouls.FoulWatch``: carrying, charging,
+pushing, illegal defence or attack) -> a free kick for the other team, a penalty kick for pushing in
+the own penalty area; a set piece not taken in ``set_piece_time`` -> a call, and the opponents may
+play; ball wholly over a side line -> throw-in for the team that did not touch it last; over a goal
+line outside the goal -> goal kick (attacker touched last) or corner kick (defender touched last);
+no known last toucher -> dropped ball; a contested ball that does not move -> dropped ball; a
+restart nobody plays for ``restart_timeout`` -> dropped ball; the end of a half (at the latest
+``half_limit_factor`` half lengths of sim time after its kickoff) -> STOPROBOT, then the next half's
+kickoff for the other team after a break, the teams having changed ends at the end of the half
+(``switch_ends``: the decision asks the simulator to turn the field round). Each restart is the
+set-piece command with the ball placed, then STARTROBOT after ``setup_time``.
 """
 
 from __future__ import annotations
@@ -367,6 +372,7 @@ class AutomaticReferee:
             return text
         if self._between_halves and (parsed == MatchMode.STARTROBOT or parsed.is_set_play):
             self.game.start_half(self.game.half + 1)
+            self._half_began = now
             self._between_halves = False
         if parsed == MatchMode.STARTROBOT:
             if self.phase is not Phase.SETUP:
