@@ -356,3 +356,17 @@ def test_ball_reach_needs_a_ball_and_a_smaller_reach_distance():
     assert ma.ball_reaches({"nubot1": track("nubot1", 3.0)}, [(0.0, 20.0)]) == ([], 0)
     with pytest.raises(ValueError, match="reach distance 1.0 m must be below the free distance 1.0 m"):
         ma.ball_reaches({}, [(0.0, 20.0)], free_distance=1.0, reach_distance=1.0)
+
+
+def test_a_kick_aimed_at_a_teammate_is_a_pass_and_one_at_nobody_a_clearance():
+    t = np.array([0.0, 20.0])
+    tracks = {"nubot3": ma.Track("nubot3", t, np.array([[3.0, 3.2], [3.0, 3.2]])),
+              "nubot2": ma.Track("nubot2", t, np.array([[0.0, 0.0], [0.0, 0.0]]))}
+    at_mate = kick(1.0, "nubot2", (3.0, 3.0), (0.0, 0.0))  # 0.14 m off nubot3
+    upfield = kick(3.0, "nubot2", (-1.0, 6.0), (0.0, 0.0))  # towards the side line, nobody there
+    short = kick(5.0, "nubot2", (1.1, 1.1), (0.0, 0.0))  # rolls 1.6 m: well short of nubot3 4.4 m away
+    log = ma.MatchLog(tracks=tracks, kicks=[at_mate, upfield, short], start=0.0, end=20.0)
+    summary = ma.analyse(log, WORLD)
+    assert [(k.clearance, k.pass_outcome != "") for k in summary.kicks] == [(False, True), (True, False), (True, False)]
+    assert summary.to_json()["clearances"] == {"nubot": 2}
+    assert ma.aimed_at_teammate(at_mate, {}, 0.78) is None, "no track: a pass as before"

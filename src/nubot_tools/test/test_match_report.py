@@ -5,8 +5,9 @@ The scripted match (sim time, 0-20 s, nubot attacks +x, rival -x):
 - play runs 1-12 s (kick-off nubot) and 14-19 s (kick-off rival); the referee stops it at each goal;
 - touches: 2 nubot2, 4 nubot3, 6 nubot2, 8 rival1, 10 nubot1, 13 nubot4 (stopped), 15 rival2, 17 nubot3;
 - kicks: 3 nubot2 -> nubot3 (completed), 5 nubot3 -> nubot2 (completed), 7 nubot2 -> rival1 (intercepted),
-  9 rival1 ground shot at the -x goal, 10.5 nubot1 wide (lost: it kicks again), 11 nubot1 lob (shot),
-  13 nubot4 (outside play), 16 rival2 -> nubot3 (intercepted), 18 nubot3 back (lost: own goal at 19);
+  9 rival1 ground shot at the -x goal, 10.5 nubot1 to nubot4 (lost: it kicks again), 11 nubot1 lob (shot),
+  13 nubot4 (outside play), 16 rival2 at nobody (a clearance; nubot3 takes it), 18 nubot3 back to nubot1 (lost: own
+  goal at 19);
 - goals: 12 at +x (nubot, by nubot1), 19 at -x (rival, own goal by nubot3);
 - runs: nubot2 3 m, nubot3 7 m, rival1 3 m with a 5 m teleport, rival2 only a 4 m teleport, others still;
 - the world: the simulator's latched world description (18 x 12 m) first.
@@ -136,12 +137,12 @@ def game_state(t):
 
 TOUCHES = [(2.0, "nubot2"), (4.0, "nubot3"), (6.0, "nubot2"), (8.0, "rival1"), (10.0, "nubot1"), (13.0, "nubot4"),
            (15.0, "rival2"), (17.0, "nubot3")]
-KICKS = [  # t, robot, kind, velocity, ball position
-    (3.0, "nubot2", -1, (0.5, 3.0), (-1.1, 1.0)),
-    (5.0, "nubot3", -1, (-2.0, 1.0), (1.0, 2.5)),
-    (7.0, "nubot2", -1, (1.0, -3.0), (-0.2, 1.0)),
+KICKS = [  # t, robot, kind, velocity, ball position (passes aimed at a teammate, the clearance at nobody)
+    (3.0, "nubot2", -1, (3.0, 0.71), (-1.1, 1.0)),  # at nubot3 (1.0, 1.5)
+    (5.0, "nubot3", -1, (-2.0, -2.0), (1.0, 2.5)),  # at nubot2 (-0.5, 1.0)
+    (7.0, "nubot2", -1, (1.4, 2.9), (-0.2, 1.0)),  # at nubot3 (1.0, 3.5)
     (9.0, "rival1", -1, (-6.0, 0.5), (-5.0, 0.0)),
-    (10.5, "nubot1", -1, (5.0, 3.0), (-7.5, 0.0)),
+    (10.5, "nubot1", -1, (3.8, -3.3), (-7.5, 0.0)),  # at nubot4 (-4, -3)
     (11.0, "nubot1", 1, (4.0, 0.0), (-7.5, 0.0)),
     (13.0, "nubot4", -1, (6.0, 0.0), (-4.0, -3.0)),
     (16.0, "rival2", -1, (8.0, 0.0), (6.0, -2.0)),
@@ -245,12 +246,13 @@ def test_report_passes_and_shots(report):
     _, r = report
     assert r["passes"] == {
         "nubot": {"tried": 5, "completed": 2, "failed": 3, "intercepted": 1, "lost": 2, "unresolved": 0},
-        "rival": {"tried": 1, "completed": 0, "failed": 1, "intercepted": 1, "lost": 0, "unresolved": 0}}
+        "rival": {"tried": 0, "completed": 0, "failed": 0, "intercepted": 0, "lost": 0, "unresolved": 0}}
+    assert r["clearances"] == {"nubot": 0, "rival": 1}
     assert r["shots"] == {"nubot": 1, "rival": 1}
     assert r["kicks_outside_play"] == 1
     assert [(k["t"], k["pass"], k["receiver"]) for k in r["kicks"] if k["pass"]] == [
         (3.0, "completed", "nubot3"), (5.0, "completed", "nubot2"), (7.0, "intercepted", "rival1"),
-        (10.5, "lost", ""), (16.0, "intercepted", "nubot3"), (18.0, "lost", "")]
+        (10.5, "lost", ""), (18.0, "lost", "")]
 
 
 def test_report_explains_the_shots_and_goals_with_the_goalies_the_strategies_announced(report):
@@ -305,7 +307,7 @@ def test_summary_and_progress_are_printed(match_bag, tmp_path, capsys):
     assert "goal at 19.0 s: half 1 0:16 rival: own goal by nubot3; no shot, 0.20 m high at the line; own goal" in out
     assert "shots (on target; goal/saved/blocked/wide): nubot 1 (1; 1/0/0/0), rival 1 (1; 0/1/0/0)" in out
     assert "goals from: own goal 1, turnover 1" in out
-    assert "passes completed/tried: nubot 2/5, rival 0/1" in out
+    assert "passes completed/tried: nubot 2/5, rival 0/0" in out
     assert "nubot: nubot1 0.0, nubot2 3.0, nubot3 7.0, nubot4 0.0" in out
     assert "collisions: 0 (0.00 per running minute): opponents 0, nubot-nubot 0, rival-rival 0" in out
     assert "free balls reached: " in out
@@ -349,7 +351,7 @@ def test_without_referee_and_clock_the_attack_option_credits_goals(tmp_path):
     assert default["score"] == {"nubot": 1, "rival": 1} and default["score_from_referee"] is None
     assert (default["start_s"], default["end_s"], default["running_time_s"]) == (0.0, 20.0, 20.0)
     assert "no referee state recorded" in default["warnings"][0]
-    assert default["passes"]["nubot"]["tried"] == 6  # the 13 s kick is in play now
+    assert default["clearances"]["nubot"] == 1  # the 13 s kick is in play now: a clearance, aimed at nobody
     assert match_report.main([str(bag), "--out", str(tmp_path / "b"), "--attack", "nubot=-x"]) == 0
     swapped = json.loads((tmp_path / "b" / "report.json").read_text())
     assert [(g["team"], g["own_goal"]) for g in swapped["goals"]] == [("rival", True), ("nubot", False)]
@@ -537,7 +539,7 @@ def test_the_field_comes_from_the_bag_s_world_description(tmp_path):
 def test_the_field_option_overrides_the_bag_s(tmp_path, capsys):
     r = report_of(tmp_path, timing_messages(world=WIDE), "--field", "18x12")
     assert r["field"] == {"length_m": 18.0, "width_m": 12.0, "goal_width_m": 2.4, "source": "--field"}
-    assert r["shots"] == {"nubot": 0, "rival": 0} and r["passes"]["nubot"]["tried"] == 1  # behind the goal line
+    assert r["shots"] == {"nubot": 0, "rival": 0} and r["clearances"]["nubot"] == 1  # behind the goal line
     assert "field 18 x 12 m, goals 2.4 m wide (--field world description)" in capsys.readouterr().out
 
 

@@ -26,6 +26,8 @@ from nubot_control.role_allocation import support_positions
 from nubot_control.team_state import TeamState
 
 _BLOCK_RADIUS = 0.55  # an opponent this close to a kick's line blocks it [m]
+_MIN_PASS = 2.5  # shorter passes only pass the pressure on [m]
+_CLEAR_SPEED = 8  # a clearance [m/s]
 _PRESSURE_RADIUS = 1.5  # an opponent this close makes the holder look for a pass [m]
 
 
@@ -113,11 +115,12 @@ class PassOption:
 
 
 def pass_options(state: TeamState, params: ControlParams, cp: ChanceParams) -> list[PassOption]:
-    """The passes to teammates (not the goalie) 1.5-9 m away, best first, with what each is worth and how safe."""
+    """The passes to teammates (not the goalie) 2.5-9 m away, best first, with what each is worth (the receiver's
+    chance to score from where it stands and the ground it gains, less the pressure it is under) and how safe."""
     me, f, play = state.me.pose, state.field, params.play
     ball = (state.ball.x, state.ball.y)
     mates = [m for m in state.mates if m.agent_id != state.goalie_id
-             and 1.5 < me.distance_to(m.pose.x, m.pose.y) < 9.0]
+             and _MIN_PASS < me.distance_to(m.pose.x, m.pose.y) < 9.0]
     if not mates:
         return []
     chances = shot_chances([(m.pose.x, m.pose.y) for m in mates], state.opponents, f, play.shot_speed, cp)
@@ -126,7 +129,10 @@ def pass_options(state: TeamState, params: ControlParams, cp: ChanceParams) -> l
         speed = max(3.0, min(8.0, play.pass_speed_per_metre * me.distance_to(mate.pose.x, mate.pose.y)))
         margin = pass_margin(ball, (mate.pose.x, mate.pose.y), speed, state.opponents, cp)
         in_range = math.hypot(f.half_length - mate.pose.x, mate.pose.y) < play.shot_range
-        options.append(PassOption(mate, (shot.chance if in_range else 0.0) + 0.03 * (mate.pose.x - me.x), margin))
+        marked = min((math.hypot(ox - mate.pose.x, oy - mate.pose.y) for ox, oy in state.opponents), default=9.0)
+        pressure = max(0.0, _PRESSURE_RADIUS - marked) / _PRESSURE_RADIUS  # a receiver pressed at once is worth less
+        value = (shot.chance if in_range else 0.0) + 0.03 * (mate.pose.x - me.x) - 0.3 * pressure
+        options.append(PassOption(mate, value, margin))
     return sorted(options, key=lambda o: (-o.value, o.mate.agent_id))
 
 
@@ -153,8 +159,11 @@ def attack(state: TeamState, params: ControlParams, cp: ChanceParams, carried: f
             return _shoot(state, (f.half_length, 0.0), KickCommand(KickKind.LOB, play.shot_speed), params)
         assert flat is not None
         return _shoot(state, flat.aim, KickCommand(KickKind.GROUND, play.shot_speed), params)
-    if safe and (must_go or wants_pass or pressed or best_pass > shot + 0.15):
+    if safe and (must_go or wants_pass or pressed or best_pass > shot + 0.15) and \
+            (best_pass > -0.1 or ball[0] >= 0.0):
         return pass_to(state, safe[0].mate, params)
+    if (pressed or must_go) and ball[0] < 0.0:  # pressed in our half with no pass forward: clear it up the field
+        return clear(state, params, cp, Action.DRIBBLE)
     if must_go:
         if options:  # the least unsafe pass
             return pass_to(state, max(options, key=lambda o: o.margin).mate, params)
@@ -171,6 +180,26 @@ def _shoot(state: TeamState, aim: tuple[float, float], kick: KickCommand, params
     if abs(wrap_angle(face.theta - me.theta)) < params.play.shot_aim_tolerance:
         return Intent(face, Action.SHOOT, dribble=True, kick=kick)
     return Intent(face, Action.SHOOT, speed_limit=0.3, dribble=True)
+
+
+def clearance_target(state: TeamState, cp: ChanceParams) -> tuple[float, float]:
+    """Where to clear the ball to: of a few points up the field on both wings and in the middle, the one the ball
+    reaches furthest ahead of every opponent (``chances.pass_margin``)."""
+    me, f = state.me.pose, state.field
+    ball = (state.ball.x, state.ball.y)
+    x = min(ball[0] + 7.0, f.half_length - 2.0)
+    targets = [(x, y) for y in (-f.half_width + 1.5, -f.half_width / 3, f.half_width / 3, f.half_width - 1.5)]
+    return max(targets, key=lambda p: (pass_margin(ball, p, _CLEAR_SPEED, state.opponents, cp),
+                                       -abs(math.atan2(p[1] - me.y, p[0] - me.x) - me.theta)))
+
+
+def clear(state: TeamState, params: ControlParams, cp: ChanceParams, action: Action) -> Intent:
+    """Turn to the best clearance target and kick the ball there along the ground."""
+    me = state.me.pose
+    face = _facing(me.x, me.y, *clearance_target(state, cp))
+    if abs(wrap_angle(face.theta - me.theta)) < 0.15:
+        return Intent(face, action, dribble=True, kick=KickCommand(KickKind.GROUND, _CLEAR_SPEED))
+    return Intent(face, action, speed_limit=0.3, dribble=True)
 
 
 def _push_ahead(state: TeamState, params: ControlParams) -> Intent:
@@ -277,17 +306,15 @@ def mark(state: TeamState, opponent: tuple[float, float], params: ControlParams)
     return Intent(_facing(ox + dx / d, oy + dy / d, state.ball.x, state.ball.y), Action.MARK)
 
 
-def keep_goal(state: TeamState, params: ControlParams) -> Intent:
+def keep_goal(state: TeamState, params: ControlParams, cp: ChanceParams | None = None) -> Intent:
     """Guard the goal: meet a lob where it comes down into the goal (the RGB-D cameras' flight), stand where a ball
-    coming at the goal crosses the guarded line, else on the line from the goal's centre to the ball; clear a slow
-    ball in the goal area; the goal's centre when the ball is lost."""
-    f, ball, me, play = state.field, state.ball, state.me, params.play
+    coming at the goal crosses the guarded line, else on the line from the goal's centre to the ball; take a slow
+    ball in the goal area and clear it up the field, away from the opponents (``clear``); the goal's centre when the
+    ball is lost."""
+    f, ball, play = state.field, state.ball, params.play
     line_x = -f.half_length + play.goalie_line
     if state.me.holding:
-        face = _facing(me.pose.x, me.pose.y, 0.0, 3.0 if me.pose.y >= 0 else -3.0)
-        ok = abs(wrap_angle(face.theta - me.pose.theta)) < 0.3
-        kick = KickCommand(KickKind.GROUND, 8) if ok else None
-        return Intent(face, Action.KEEP_GOAL, dribble=True, kick=kick, speed_limit=0.5)
+        return clear(state, params, cp or ChanceParams(), Action.KEEP_GOAL)
     lob = _meet_lob(state, params)
     if lob is not None:
         return lob

@@ -235,7 +235,7 @@ class Strategy:
             roles[self.agent_id] = Role.CATCHOFPASS
             return bh.catch_pass(state, plan, self.params), roles, (0, 0)
         if role == Role.GOALIE:
-            return bh.keep_goal(state, self.params), roles, (0, 0)
+            return bh.keep_goal(state, self.params, self.chances), roles, (0, 0)
         carrier = bh.opponent_has_ball(state)
         if role == Role.ACTIVE:
             if state.me.holding:

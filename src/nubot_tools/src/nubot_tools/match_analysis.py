@@ -34,7 +34,9 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
 - shot: a kick in play whose straight-line ground direction crosses the goal line its team
   attacks at most ``SHOT_WIDE_MARGIN`` (1 m) outside a post, or any lob (kind 1) towards the half its
   team attacks (``match_shots`` says which shots were on target and how each ended);
-- pass tried: a kick in play that is not a shot. It is completed when the next touch by a
+- pass tried: a kick in play that is not a shot, aimed at a teammate (its line passes within
+  ``PASS_AIM`` (1 m) of one ahead, within the distance the ball rolls; any kick when no teammate's
+  track covers its time); the others are clearances, counted apart. A pass is completed when the next touch by a
   robot other than the kicker is by a teammate, intercepted when it is by an opponent,
   lost when a goal, a stop of play or another kick by the kicker comes first, unresolved
   when the recording ends first. Every outcome but completed is a failed pass;
@@ -85,6 +87,7 @@ from nubot_tools.match_records import (
 )
 
 SHOT_WIDE_MARGIN = 1.0  # a ground kick crossing the goal line this far outside a post is still a shot [m]
+PASS_AIM = 1.0  # a kick whose line passes this close to a teammate ahead is a pass to it [m]
 KICK_TOUCH_TIME = 0.05  # a touch by the kicker this soon after its kick is the kick itself [s]
 GOAL_GRACE = 0.5  # a goal event this soon after play stopped still counts (the referee saw it first) [s]
 NOBODY = "nobody"
@@ -104,7 +107,9 @@ DEFINITIONS = {
     "kick_in_play": "a kick during running time; kicks outside it are only counted (kicks_outside_play)",
     "shot": "a kick in play whose straight ground direction crosses the attacked goal line at most 1 m outside a "
             "post, or any lob (kind 1) towards the attacked half",
-    "pass": "a kick in play that is not a shot; completed when the next touch by another robot is by a teammate, "
+    "pass": "a kick in play that is not a shot and is aimed at a teammate (its line passes within 1 m of one ahead, "
+            "within the ball's rolling distance; else a clearance, counted apart); completed when the next touch by "
+            "another robot is by a teammate, "
             "intercepted when by an opponent, lost when a goal, a stop of play or another kick by the kicker comes "
             "first, unresolved when the recording ends first; failed = tried - completed",
     "distance_run": "sum of planar displacements between consecutive model-state samples, "
@@ -141,8 +146,9 @@ class KickOutcome:
     team: str
     in_play: bool
     shot: bool
-    pass_outcome: str  # completed | intercepted | lost | unresolved, "" for shots and kicks outside play
+    pass_outcome: str  # completed | intercepted | lost | unresolved, "" for shots, clearances, kicks outside play
     receiver: str  # robot of the next touch that decided the pass, "" otherwise
+    clearance: bool = False  # in play, neither a shot nor aimed at a teammate (see ``aimed_at_teammate``)
 
 
 @dataclass(frozen=True)
@@ -316,9 +322,10 @@ class MatchSummary:
             "passes": self.pass_counts(),
             "shots": self.shot_counts(),
             "kicks_outside_play": sum(1 for k in self.kicks if not k.in_play),
+            "clearances": {t: sum(1 for k in self.kicks if k.clearance and k.team == t) for t in self.teams},
             "kicks": [{"t": r3(k.kick.t), "robot": k.kick.robot, "team": k.team, "kind": k.kick.kind,
-                       "in_play": k.in_play, "shot": k.shot, "pass": k.pass_outcome, "receiver": k.receiver}
-                      for k in self.kicks],
+                       "in_play": k.in_play, "shot": k.shot, "pass": k.pass_outcome, "receiver": k.receiver,
+                       "clearance": k.clearance} for k in self.kicks],
             "referee_events": [{"t": r3(t), "event": e} for t, e in self.referee_events],
             "fouls": self.foul_counts(),
             "referee_calls": [{"t": r3(c.t), "kind": c.kind, "team": c.team, "robot": c.robot, "restart": c.restart,
@@ -562,9 +569,31 @@ def is_shot(kick: Kick, side: int, field: FieldGeometry) -> bool:
     return crossing is not None and abs(crossing[1]) <= field.goal_width / 2.0 + SHOT_WIDE_MARGIN
 
 
+def aimed_at_teammate(kick: Kick, tracks: dict[str, Track], decel: float) -> bool | None:
+    """Whether the kick's line passes within ``PASS_AIM`` of a teammate ahead, within the distance the ball rolls at
+    ``decel`` [m/s^2] (and ``PASS_AIM`` more); None when no teammate's track covers the kick's time."""
+    team = team_of(kick.robot)
+    mates = [tracks[n] for n in tracks if is_robot_name(n) and team_of(n) == team and n != kick.robot
+             and len(tracks[n].t) and tracks[n].t[0] <= kick.t <= tracks[n].t[-1]]
+    if not mates:
+        return None
+    vx, vy = kick.velocity[0], kick.velocity[1]
+    speed = math.hypot(vx, vy)
+    if speed < 1e-6:
+        return False
+    ux, uy = vx / speed, vy / speed
+    reach = speed * speed / (2.0 * decel) + PASS_AIM if decel > 0.0 else math.inf
+    for track in mates:
+        x = float(np.interp(kick.t, track.t, track.xy[:, 0])) - kick.ball_xy[0]
+        y = float(np.interp(kick.t, track.t, track.xy[:, 1])) - kick.ball_xy[1]
+        if 0.0 < x * ux + y * uy < reach and abs(x * uy - y * ux) < PASS_AIM:
+            return True
+    return False
+
+
 def classify_kicks(log: MatchLog, intervals: Sequence[tuple[float, float]], default_attack: dict[str, int],
-                   field: FieldGeometry) -> list[KickOutcome]:
-    """Classify every kick: in play or not, shot or pass, and how each pass ended."""
+                   field: FieldGeometry, decel: float = 0.78) -> list[KickOutcome]:
+    """Classify every kick: in play or not, shot, pass (aimed at a teammate; how it ended) or clearance."""
     touches = touch_sequence(log)
     goal_times = [g.t for g in log.goals]
     outcomes = []
@@ -573,10 +602,12 @@ def classify_kicks(log: MatchLog, intervals: Sequence[tuple[float, float]], defa
         in_play = inside(kick.t, intervals) >= 0
         side = attack_at(log.referee, kick.t, default_attack).get(team, 0)
         shot = in_play and side != 0 and is_shot(kick, side, field)
-        outcome, receiver = "", ""
+        outcome, receiver, clearance = "", "", False
         if in_play and not shot:
-            outcome, receiver = _pass_outcome(kick, touches, goal_times, intervals, log.end)
-        outcomes.append(KickOutcome(kick, team, in_play, shot, outcome, receiver))
+            clearance = aimed_at_teammate(kick, log.tracks, decel) is False
+            if not clearance:
+                outcome, receiver = _pass_outcome(kick, touches, goal_times, intervals, log.end)
+        outcomes.append(KickOutcome(kick, team, in_play, shot, outcome, receiver, clearance))
     return outcomes
 
 
@@ -741,7 +772,7 @@ def analyse(log: MatchLog, world: WorldDescription, default_attack: tuple[str, i
         goals=goals, goals_outside_play=stopped, goals_disallowed=disallowed, score=score,
         referee_score=referee_score,
         possession_seconds=possession(touch_sequence(log), intervals, log.end, teams),
-        kicks=classify_kicks(log, intervals, attack, world.field),
+        kicks=classify_kicks(log, intervals, attack, world.field, world.ball.rolling_friction * 9.8),
         distance_run={n: distance_run(tr, teleport_step) for n, tr in sorted(log.tracks.items()) if is_robot_name(n)},
         referee_events=referee_events(log.referee), coach_commands=log.coach, world=world,
         teleport_step=teleport_step, warnings=warnings,
