@@ -190,7 +190,7 @@ def clearance_target(state: TeamState, cp: ChanceParams) -> tuple[float, float]:
     x = min(ball[0] + 7.0, f.half_length - 2.0)
     targets = [(x, y) for y in (-f.half_width + 1.5, -f.half_width / 3, f.half_width / 3, f.half_width - 1.5)]
     return max(targets, key=lambda p: (pass_margin(ball, p, _CLEAR_SPEED, state.opponents, cp),
-                                       -abs(math.atan2(p[1] - me.y, p[0] - me.x) - me.theta)))
+                                       -abs(wrap_angle(math.atan2(p[1] - me.y, p[0] - me.x) - me.theta))))
 
 
 def clear(state: TeamState, params: ControlParams, cp: ChanceParams, action: Action) -> Intent:

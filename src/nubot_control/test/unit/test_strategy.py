@@ -262,3 +262,16 @@ def test_field_robots_never_aim_into_the_goal_areas_and_supporters_not_into_the_
     assert not in_area(*out.target, field, own=True, goal_area=True)
     if out.role not in (Role.ACTIVE, Role.GOALIE):
         assert not in_area(*out.target, field, own=True), f"{out.role.name} aims into our penalty area"
+
+
+def test_pressed_in_its_own_half_with_no_pass_on_a_robot_clears_the_ball_where_no_opponent_can_reach_it():
+    from nubot_control.behaviours import clearance_target
+    from nubot_control.chances import ChanceParams
+
+    opponents = [(-5.3, -1.1), (0.0, -3.5), (1.0, -0.5), (8.6, 0.0)]  # one pressing from beside, two to the right
+    state = holder_state((-5.0, 0.0), 0.0, opponents)
+    target = clearance_target(state, ChanceParams())
+    assert target[0] > -1.0 and target[1] > 2.0, "up the field, on the wing nobody covers"
+    out = Strategy(ControlParams(), WorldDescription(), 2).step(state)
+    assert out.action == Action.DRIBBLE and out.kick is None, "it turns to the target first"
+    assert out.velocity.w > 0.0, "to its left, towards the free wing"
