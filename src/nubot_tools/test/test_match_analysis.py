@@ -50,7 +50,9 @@ def test_possession_is_running_time_per_team_of_the_last_toucher():
     ((-6.0, 0.0, 0.0), (5.0, 0.0), -1, 1, False),  # away from the attacked goal
     ((-6.0, 0.5, 0.0), (-5.0, 0.0), -1, -1, True),  # the other team's attack
     ((6.0, 0.0, 0.0), (9.5, 0.0), -1, 1, False),  # ball already behind the goal line
-    ((3.0, 5.0, 4.0), (-8.0, 0.0), 1, 1, True),  # any lob towards the attacked half
+    ((3.0, 5.0, 4.0), (3.0, 0.0), 1, 1, True),  # any lob towards the attacked goal
+    ((3.0, 5.0, 4.0), (-8.0, 0.0), 1, 1, False),  # ... but from 17 m out: a clearance
+    ((6.0, 0.0, 0.0), (-2.0, 0.0), -1, 1, False),  # straight at the goal from 11 m: no shot
     ((-3.0, 0.0, 4.0), (-8.0, 0.0), 1, 1, False),  # a lob backwards
 ])
 def test_is_shot(velocity, xy, kind, side, shot):

@@ -5,7 +5,7 @@ The scripted match (sim time, 0-20 s, nubot attacks +x, rival -x):
 - play runs 1-12 s (kick-off nubot) and 14-19 s (kick-off rival); the referee stops it at each goal;
 - touches: 2 nubot2, 4 nubot3, 6 nubot2, 8 rival1, 10 nubot1, 13 nubot4 (stopped), 15 rival2, 17 nubot3;
 - kicks: 3 nubot2 -> nubot3 (completed), 5 nubot3 -> nubot2 (completed), 7 nubot2 -> rival1 (intercepted),
-  9 rival1 ground shot at the -x goal, 10.5 nubot1 to nubot4 (lost: it kicks again), 11 nubot1 lob (shot),
+  9 rival1 ground shot at the -x goal, 10.5 nubot1 to nubot4 (lost: it kicks again), 11 nubot1 lob from 6 m (shot),
   13 nubot4 (outside play), 16 rival2 at nobody (a clearance; nubot3 takes it), 18 nubot3 back to nubot1 (lost: own
   goal at 19);
 - goals: 12 at +x (nubot, by nubot1), 19 at -x (rival, own goal by nubot3);
@@ -143,7 +143,7 @@ KICKS = [  # t, robot, kind, velocity, ball position (passes aimed at a teammate
     (7.0, "nubot2", -1, (1.4, 2.9), (-0.2, 1.0)),  # at nubot3 (1.0, 3.5)
     (9.0, "rival1", -1, (-6.0, 0.5), (-5.0, 0.0)),
     (10.5, "nubot1", -1, (3.8, -3.3), (-7.5, 0.0)),  # at nubot4 (-4, -3)
-    (11.0, "nubot1", 1, (4.0, 0.0), (-7.5, 0.0)),
+    (11.0, "nubot1", 1, (4.0, 0.0), (3.0, 0.0)),
     (13.0, "nubot4", -1, (6.0, 0.0), (-4.0, -3.0)),
     (16.0, "rival2", -1, (8.0, 0.0), (6.0, -2.0)),
     (18.0, "nubot3", -1, (-8.0, 0.0), (-5.0, 0.0)),
@@ -301,7 +301,7 @@ def test_summary_and_progress_are_printed(match_bag, tmp_path, capsys):
     assert "field 18 x 12 m, goals 2.4 m wide (bag's world description)" in out
     assert "running 16.0 s (ball samples cover 16.0 s of it)" in out
     assert "score: nubot 1 - rival 1  (referee agrees)" in out
-    assert ("goal at 12.0 s: half 1 0:11 nubot: nubot1; lob 5.0 m/s from (-7.5, +0.0) attacking +x, 16.5 m out, "
+    assert ("goal at 12.0 s: half 1 0:11 nubot: nubot1; lob 5.0 m/s from (+3.0, +0.0) attacking +x, 6.0 m out, "
             "0.20 m high at the line; turnover; goalie rival2 2.0 m off the line; nearest defenders rival1 1.0 m"
             ) in out
     assert "goal at 19.0 s: half 1 0:16 rival: own goal by nubot3; no shot, 0.20 m high at the line; own goal" in out

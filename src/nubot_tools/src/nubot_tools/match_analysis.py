@@ -31,9 +31,10 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
 - possession: the share of running time during which the last robot to touch the ball
   belongs to each team ("nobody" before the first touch);
 - kick in play: a kick during running time; kicks outside it are counted apart only;
-- shot: a kick in play whose straight-line ground direction crosses the goal line its team
-  attacks at most ``SHOT_WIDE_MARGIN`` (1 m) outside a post, or any lob (kind 1) towards the half its
-  team attacks (``match_shots`` says which shots were on target and how each ended);
+- shot: a kick in play from at most ``SHOT_DISTANCE`` (10 m) from the centre of the goal its team attacks,
+  whose straight-line ground direction crosses that goal line at most ``SHOT_WIDE_MARGIN`` (1 m) outside a
+  post, or any such lob (kind 1) towards that goal (``match_shots`` says which were on target and how
+  each ended);
 - pass tried: a kick in play that is not a shot, aimed at a teammate (its line passes within
   ``PASS_AIM`` (1 m) of one ahead, within the distance the ball rolls; any kick when no teammate's
   track covers its time); the others are clearances, counted apart. A pass is completed when the next touch by a
@@ -88,6 +89,7 @@ from nubot_tools.match_records import (
 
 SHOT_WIDE_MARGIN = 1.0  # a ground kick crossing the goal line this far outside a post is still a shot [m]
 PASS_AIM = 1.0  # a kick whose line passes this close to a teammate ahead is a pass to it [m]
+SHOT_DISTANCE = 10.0  # a kick from farther from the goal's centre is no shot (a clearance or a pass) [m]
 KICK_TOUCH_TIME = 0.05  # a touch by the kicker this soon after its kick is the kick itself [s]
 GOAL_GRACE = 0.5  # a goal event this soon after play stopped still counts (the referee saw it first) [s]
 NOBODY = "nobody"
@@ -105,8 +107,8 @@ DEFINITIONS = {
              "its kick is that kick",
     "possession": "share of running time during which the last robot to touch the ball belongs to each team",
     "kick_in_play": "a kick during running time; kicks outside it are only counted (kicks_outside_play)",
-    "shot": "a kick in play whose straight ground direction crosses the attacked goal line at most 1 m outside a "
-            "post, or any lob (kind 1) towards the attacked half",
+    "shot": "a kick in play from at most 10 m from the attacked goal's centre whose straight ground direction crosses "
+            "the attacked goal line at most 1 m outside a post, or any such lob (kind 1) towards that goal",
     "pass": "a kick in play that is not a shot and is aimed at a teammate (its line passes within 1 m of one ahead, "
             "within the ball's rolling distance; else a clearance, counted apart); completed when the next touch by "
             "another robot is by a teammate, "
@@ -559,9 +561,11 @@ def shot_line(kick: Kick, side: int, field: FieldGeometry) -> tuple[float, float
 
 
 def is_shot(kick: Kick, side: int, field: FieldGeometry) -> bool:
-    """True when the kick goes towards the goal at ``side`` (+1/-1): any lob into that half, or a ground kick whose
-    line crosses the goal line at most ``SHOT_WIDE_MARGIN`` outside a post."""
+    """True when the kick goes towards the goal at ``side`` (+1/-1) from at most ``SHOT_DISTANCE`` from its centre:
+    any lob, or a ground kick whose line crosses the goal line at most ``SHOT_WIDE_MARGIN`` outside a post."""
     if kick.velocity[0] * side <= 0.0:
+        return False
+    if math.hypot(side * field.half_length - kick.ball_xy[0], kick.ball_xy[1]) > SHOT_DISTANCE:
         return False
     if kick.kind == 1:
         return True

@@ -10,8 +10,9 @@ is ``match_plots.plot_shot_map``.
 
 Definitions (``DEFINITIONS`` repeats them in report.json):
 
-- shot: a kick in play towards the goal its team attacks: a lob (kind 1) towards the attacked half, or a ground kick
-  whose straight line crosses the attacked goal line within ``SHOT_WIDE_MARGIN`` (1 m) outside a post; on target:
+- shot: a kick in play towards the goal its team attacks from at most ``SHOT_DISTANCE`` (10 m) from its centre: a
+  lob (kind 1), or a ground kick whose straight line crosses the attacked goal line within ``SHOT_WIDE_MARGIN``
+  (1 m) outside a post; on target:
   that line crosses between the posts (a lob: also below the bar, in a flight without drag);
 - a shot's outcome, by the first of: a goal for its team within ``SHOT_TIME`` (4 s) with no touch by the shooter's
   team in between (touches by defenders deflect it) -> goal (disallowed: the referee did not count it); a touch by
@@ -64,7 +65,8 @@ _SET_PIECES = {1, 3, 5, 7, 9, 11}  # MatchMode OUR_KICKOFF .. OUR_FREEKICK, in t
 _STARTROBOT = 15
 
 DEFINITIONS = {
-    "shot": f"a kick in play towards the attacked goal: any lob (kind 1) towards the attacked half, or a ground "
+    "shot": f"a kick in play towards the attacked goal from at most {ma.SHOT_DISTANCE:g} m from its centre: any lob "
+            f"(kind 1) towards it, or a ground "
             f"kick whose straight line crosses the attacked goal line within {ma.SHOT_WIDE_MARGIN:g} m outside a post; "
             "on target: between the posts (a lob also below the bar, flight without drag)",
     "shot_outcome": f"goal: a goal for the shooter's team within {SHOT_TIME:g} s, no touch by that team in between "
