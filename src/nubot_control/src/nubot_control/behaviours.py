@@ -289,8 +289,30 @@ def press(state: TeamState, params: ControlParams) -> Intent:
     return Intent(_facing(ball.x + dx / d * gap, ball.y + dy / d * gap, ball.x, ball.y), Action.DEFEND)
 
 
+def block_lane(state: TeamState, params: ControlParams) -> Intent | None:
+    """With the ball in our half within ``block_range`` of our goal: stand in the lane from the ball to the part of the
+    goal our goalie leaves open (the far side from the ball, or from the goalie), ``block_distance`` from the ball;
+    None farther away."""
+    ball, f, play = state.ball, state.field, params.play
+    gx = -f.half_length
+    if not ball.known or math.hypot(ball.x - gx, ball.y) > play.block_range:
+        return None
+    keeper = next((m for m in state.team if m.agent_id == state.goalie_id), None)
+    side = -1.0 if ball.y > 0.3 else 1.0 if ball.y < -0.3 else (-1.0 if keeper and keeper.pose.y > 0.0 else 1.0)
+    aim = (gx, side * 0.35 * f.goal_width)
+    dx, dy = aim[0] - ball.x, aim[1] - ball.y
+    d = max(math.hypot(dx, dy), 1e-6)
+    gap = min(play.block_distance, d - 0.5)
+    return Intent(_facing(ball.x + dx / d * gap, ball.y + dy / d * gap, ball.x, ball.y), Action.DEFEND)
+
+
 def support(state: TeamState, role: Role, params: ControlParams) -> Intent:
-    """Hold the role's spot; with the ball lost, the spots stay where they were for its last position."""
+    """Hold the role's spot; with the ball lost, the spots stay where they were for its last position. The PASSIVE
+    robot blocks a shot's lane when the ball is near our goal (``block_lane``)."""
+    if role == Role.PASSIVE:
+        blocking = block_lane(state, params)
+        if blocking is not None:
+            return blocking
     spots = support_positions(state.ball, state.field)
     x, y = spots.get(role, spots[Role.MIDFIELD])
     action = Action.DEFEND if role == Role.PASSIVE else Action.POSITION

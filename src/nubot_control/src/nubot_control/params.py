@@ -86,6 +86,8 @@ class PlayParams:
     search_distance: float = 1.5  # with the ball lost, the active robot stops this short of where it was seen [m]
     search_turn: float = 0.6  # ... and then turns on the spot, aiming this far ahead of its heading [rad]
     press_distance: float = 0.9  # an opponent playing the ball is pressed from this far, on its way to our goal [m]
+    block_range: float = 9.0  # with the ball this near our goal's centre the PASSIVE robot blocks a shot's lane [m]
+    block_distance: float = 1.6  # ... this far from the ball, towards the part of the goal the goalie leaves open [m]
     carry_limit: float = 2.4  # the rules allow 3 m with the ball from where it was caught: pass, shoot or let go by
     # this distance [m]
     area_time: float = 7.0  # the rules allow 10 s in a penalty area: leave it after this long [s]
@@ -97,7 +99,7 @@ class PlayParams:
 
     def __post_init__(self) -> None:
         require_positive(self, "search_distance", "search_turn", "carry_limit", "area_time", "shot_range", "lob_range",
-                         "press_distance",
+                         "press_distance", "block_range", "block_distance",
                          "kick_spread", "shot_aim_tolerance")
         for name in ("shot_threshold", "last_chance"):
             if not 0.0 <= getattr(self, name) <= 1.0:

@@ -275,3 +275,17 @@ def test_pressed_in_its_own_half_with_no_pass_on_a_robot_clears_the_ball_where_n
     out = Strategy(ControlParams(), WorldDescription(), 2).step(state)
     assert out.action == Action.DRIBBLE and out.kick is None, "it turns to the target first"
     assert out.velocity.w > 0.0, "to its left, towards the free wing"
+
+
+def test_near_our_goal_the_passive_robot_blocks_the_lane_to_the_side_the_goalie_leaves_open():
+    from nubot_control.behaviours import block_lane
+
+    keeper = RobotReport(1, Pose2D(-8.6, 0.4, 0))
+    me = RobotReport(3, Pose2D(-4.0, 0.0, 0))
+    state = team_state(me, (keeper,), FusedBall(-4.5, 2.5), ((-4.2, 2.8), (8.6, 0.0)))
+    out = block_lane(state, ControlParams())
+    lane = (-9.0 + 4.5, -0.84 - 2.5)  # from the ball to the far post's side
+    d = math.hypot(*lane)
+    expected = (-4.5 + lane[0] / d * 1.6, 2.5 + lane[1] / d * 1.6)
+    assert (out.target.x, out.target.y) == pytest.approx(expected, abs=1e-6)
+    assert block_lane(team_state(me, (keeper,), FusedBall(3.0, 0.0)), ControlParams()) is None, "far away: none"
