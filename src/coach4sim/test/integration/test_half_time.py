@@ -46,12 +46,14 @@ def test_at_half_time_the_teams_change_ends_and_each_keeps_its_view(short_halves
         sub.unregister()
 
 
-def test_after_the_change_a_goal_at_plus_x_counts_for_rival(short_halves):
+def test_after_the_change_a_goal_at_minus_x_counts_for_nubot(short_halves):
     watcher, _, _ = short_halves
     watcher.wait_for(lambda: watcher.game.half == 2 and watcher.game.running, timeout=15, what="second-half play")
     before = list(watcher.game.score)
-    watcher.set_model("football", 9.5, 0.3, z=0.11)
-    watcher.wait_for(lambda: list(watcher.game.score) == [before[0], before[1] + 1], timeout=5,
-                     what=f"a goal for rival; score {list(watcher.game.score)}")
-    watcher.wait_for(lambda: (watcher.mode("nubot"), watcher.mode("rival")) == (1, 2), timeout=5,
-                     what="the kickoff for nubot, who conceded")
+    # rival kicked the second half off, so a ball in the goal at +x would be no goal for rival (RC-8.4.1); one in
+    # the goal at -x is nubot's now
+    watcher.set_model("football", -9.5, 0.3, z=0.11)
+    watcher.wait_for(lambda: list(watcher.game.score) == [before[0] + 1, before[1]], timeout=5,
+                     what=f"a goal for nubot; score {list(watcher.game.score)}")
+    watcher.wait_for(lambda: (watcher.mode("nubot"), watcher.mode("rival")) == (2, 1), timeout=5,
+                     what="the kickoff for rival, who conceded")

@@ -70,13 +70,14 @@ def test_reconfiguration_is_bounded_and_a_huge_command_stays_within_it(sim, sim_
     try:
         ranges = {d["name"]: d["max"] for d in client.get_parameter_descriptions()}
         assert ranges == {**PLUGIN_UPPER_BOUNDS, **NOISE_UPPER_BOUNDS, "real_time_factor": REAL_TIME_FACTOR_MAX}
-        assert client.update_configuration({"max_linear_speed": 1e300})["max_linear_speed"] == 10.0
+        bounded = client.update_configuration({"max_linear_speed": 1e300, "max_linear_accel": 1e300})
+        assert (bounded["max_linear_speed"], bounded["max_linear_accel"]) == (10.0, 50.0)
         sim.wait_sim(0.5, command=(1e30, 0.0, 0.0))
         assert process.alive(), process.log_text()[-3000:]
         x, _, _, _, vx, *_ = sim.state("nubot1")
         assert vx == pytest.approx(10.0, abs=0.01) and x < 9.0
     finally:
-        client.update_configuration({"max_linear_speed": 5.0})
+        client.update_configuration({"max_linear_speed": 5.0, "max_linear_accel": 3.5})
         client.close()
     clock = sim.clock
     sim.wait_sim(1.0)

@@ -26,6 +26,10 @@ def test_velocity_command_moves_the_robot_the_expected_distance(sim):
 def test_commands_beyond_the_limits_are_clamped(sim):
     sim.wait_sim(0.5, command=(30.0, 40.0, 0.0))
     _, _, _, _, vx, vy, _, _ = sim.state("nubot1")
+    assert math.hypot(vx, vy) == pytest.approx(3.5 * 0.5, abs=0.15), "the base speeds up at 3.5 m/s^2"
+    assert vy / vx == pytest.approx(40.0 / 30.0, rel=1e-3), "in the commanded direction"
+    sim.wait_sim(1.2, command=(30.0, 40.0, 0.0))
+    _, _, _, _, vx, vy, _, _ = sim.state("nubot1")
     assert math.hypot(vx, vy) == pytest.approx(5.0, abs=0.01)
 
 
@@ -64,6 +68,7 @@ def test_ground_pass_reaches_the_commanded_speed(sim):
     assert sim.service("/nubot1/Shoot", Shoot)(5, -1).ShootIsDone == 1
     sim.wait_sim(0.1)
     _, _, z, _, vx, vy, *_ = sim.state("football")
+    assert vy == pytest.approx(0.0, abs=1e-3), "straight ahead"
     assert math.hypot(vx, vy) == pytest.approx(5.0, abs=0.15)
     assert z == pytest.approx(0.11, abs=0.01)
     assert sim.service("/nubot1/Shoot", Shoot)(5, -1).ShootIsDone == 0, "nothing left to kick"
