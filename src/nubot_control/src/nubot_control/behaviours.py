@@ -21,7 +21,7 @@ from nubot_common.geometry import Pose2D, wrap_angle
 from nubot_common.percepts import RobotReport
 from nubot_common.team_play import PassCommand, Role
 from nubot_control.chances import ChanceParams, lob_chance, pass_margin, shot_chance, shot_chances
-from nubot_control.params import ControlParams, PlayParams
+from nubot_control.params import ControlParams
 from nubot_control.role_allocation import support_positions
 from nubot_control.team_state import TeamState
 
@@ -115,21 +115,18 @@ class PassOption:
 
 
 def pass_options(state: TeamState, params: ControlParams, cp: ChanceParams) -> list[PassOption]:
-    """The passes to teammates (not the goalie, never back into our own third) 2.5-9 m away, best first, with what each
-    is worth (the receiver's chance to score from where it stands and the ground it gains, less the pressure it is
-    under) and how safe."""
+    """The passes to teammates (not the goalie) 2.5-9 m away, best first, with what each is worth (the receiver's
+    chance to score from where it stands and the ground it gains, less the pressure it is under) and how safe."""
     me, f, play = state.me.pose, state.field, params.play
     ball = (state.ball.x, state.ball.y)
-    own_third = -f.half_length / 3.0
     mates = [m for m in state.mates if m.agent_id != state.goalie_id
-             and _MIN_PASS < me.distance_to(m.pose.x, m.pose.y) < 9.0
-             and not (m.pose.x < own_third and m.pose.x < me.x)]  # never back into our own third
+             and _MIN_PASS < me.distance_to(m.pose.x, m.pose.y) < 9.0]
     if not mates:
         return []
     chances = shot_chances([(m.pose.x, m.pose.y) for m in mates], state.opponents, f, play.shot_speed, cp)
     options = []
     for mate, shot in zip(mates, chances):
-        speed = pass_speed(me.distance_to(mate.pose.x, mate.pose.y), play, cp)
+        speed = max(3.0, min(8.0, play.pass_speed_per_metre * me.distance_to(mate.pose.x, mate.pose.y)))
         margin = pass_margin(ball, (mate.pose.x, mate.pose.y), speed, state.opponents, cp)
         in_range = math.hypot(f.half_length - mate.pose.x, mate.pose.y) < play.shot_range
         marked = min((math.hypot(ox - mate.pose.x, oy - mate.pose.y) for ox, oy in state.opponents), default=9.0)
@@ -137,12 +134,6 @@ def pass_options(state: TeamState, params: ControlParams, cp: ChanceParams) -> l
         value = (shot.chance if in_range else 0.0) + 0.03 * (mate.pose.x - me.x) - 0.3 * pressure
         options.append(PassOption(mate, value, margin))
     return sorted(options, key=lambda o: (-o.value, o.mate.agent_id))
-
-
-def pass_speed(distance: float, play: PlayParams, cp: ChanceParams) -> float:
-    """The kick's speed [m/s] for a pass over ``distance`` [m]: the ball slows on the carpet (``rolling_decel``) and
-    reaches the receiver at ``pass_arrival_speed``, soft enough to take; 3 to 6 m/s."""
-    return max(3.0, min(6.0, math.sqrt(play.pass_arrival_speed ** 2 + 2.0 * cp.rolling_decel * distance)))
 
 
 def attack(state: TeamState, params: ControlParams, cp: ChanceParams, carried: float = 0.0,
@@ -256,9 +247,9 @@ def pass_to(state: TeamState, mate: RobotReport, params: ControlParams, static: 
                        is_dynamic_pass=not static, is_static_pass=static)
     face = _facing(me.x, me.y, mate.pose.x, mate.pose.y)
     if abs(wrap_angle(face.theta - me.theta)) < play.aim_tolerance * 1.5:
-        speed = pass_speed(me.distance_to(mate.pose.x, mate.pose.y), play, ChanceParams())
-        return Intent(face, Action.PASS, dribble=True, kick=KickCommand(KickKind.GROUND, int(round(speed))),
-                      pass_cmd=plan)
+        d = me.distance_to(mate.pose.x, mate.pose.y)
+        strength = int(round(max(3.0, min(8.0, play.pass_speed_per_metre * d))))
+        return Intent(face, Action.PASS, dribble=True, kick=KickCommand(KickKind.GROUND, strength), pass_cmd=plan)
     return Intent(face, Action.PASS, speed_limit=0.3, dribble=True, pass_cmd=plan)
 
 

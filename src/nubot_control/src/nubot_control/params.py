@@ -71,12 +71,12 @@ class PlayParams:
     drop_ball_distance: float = 1.0  # everyone keeps this far until the drop ball is started [m]
     set_play_timeout: float = 7.0  # after STARTROBOT of an opponent set play, play on after this [s]
     grab_distance: float = 0.45  # ask for the ball when this close, centre to centre [m]
-    shot_threshold: float = 0.5  # shoot when the shot's chance to score (``chances``) is at least this [1]
+    shot_threshold: float = 0.45  # shoot when the shot's chance to score (``chances``) is at least this [1]
     last_chance: float = 0.2  # ... or at least this when the ball must go (carried to carry_limit, no pass) [1]
     shot_range: float = 9.0  # no shot from farther than this from the goal's centre [m]
     lob_range: float = 7.0  # no lob from farther than this (the kicker's lob does not reach) [m]
     shot_speed: int = 10  # ground shot [m/s]
-    pass_arrival_speed: float = 2.5  # a pass is kicked to reach the receiver this fast (3 to 6 m/s at the kick) [m/s]
+    pass_speed_per_metre: float = 0.9  # ground pass speed = clamp(k * distance, 3, 8) [m/s per m]
     pass_margin: float = 0.15  # pass when the ball beats every opponent by this all along its line (pressed: 0) [s]
     kick_spread: float = 2.0  # what the team reckons a kick scatters, aim included (one standard deviation) [deg]
     aim_tolerance: float = 0.08  # pass when facing the receiver this well [rad]
@@ -99,7 +99,6 @@ class PlayParams:
 
     def __post_init__(self) -> None:
         require_positive(self, "search_distance", "search_turn", "carry_limit", "area_time", "shot_range", "lob_range",
-                         "pass_arrival_speed",
                          "press_distance", "block_range", "block_distance",
                          "kick_spread", "shot_aim_tolerance")
         for name in ("shot_threshold", "last_chance"):
