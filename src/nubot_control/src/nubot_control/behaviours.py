@@ -346,11 +346,12 @@ def keep_goal(state: TeamState, params: ControlParams, cp: ChanceParams | None =
     if in_area and math.hypot(ball.vx, ball.vy) < 1.0:
         intent = chase_ball(state, params)
         return Intent(intent.target, Action.KEEP_GOAL, dribble=intent.dribble)
-    if ball.vx < -0.5:  # the ball comes at the goal: stand where it will cross the line
-        t = (line_x - ball.x) / ball.vx
-        y = ball.y + ball.vy * t
-    else:  # on the line from the goal's centre to the ball: the angle a shot has is shared out evenly
-        y = ball.y * play.goalie_line / max(ball.x + f.half_length, play.goalie_line)
+    y = ball.y * play.goalie_line / max(ball.x + f.half_length, play.goalie_line)  # on the line from the goal's
+    # centre to the ball: the angle a shot has is shared out evenly
+    if ball.vx < -0.5 and math.hypot(ball.vx, ball.vy) >= play.goalie_shot_speed:
+        crossing = ball.y + ball.vy * (line_x - ball.x) / ball.vx
+        if abs(crossing) < f.goal_width / 2 + 0.5:  # a shot at the goal: stand where it will cross the line
+            y = crossing
     half = f.goal_width / 2 - 0.2
     y = max(-half, min(half, y))
     return Intent(_facing(line_x, y, ball.x, ball.y), Action.KEEP_GOAL)

@@ -85,3 +85,24 @@ def test_gravity_of_the_flight_is_the_shared_one():
     f = flying(0.0, 0.0, 1.0, -1.0, 0.0, 0.0)
     _, _, when = f.touchdown
     assert when - 1.0 == pytest.approx(math.sqrt(2 * (1.0 - R) / -GRAVITY))
+
+
+def test_a_ball_dribbled_across_towards_the_goal_leaves_the_goalie_between_ball_and_goal():
+    """A slow ball whose line would cross far wide (an opponent dribbling diagonally in) is no shot: the goalie keeps
+    its place on the line from the goal's centre to the ball instead of running to a post."""
+    params = ControlParams()
+    ball = FusedBall(-L + 5.0, -3.0, -1.0, 1.5, velocity_known=True)
+    intent = keep_goal(state(ball), params)
+    assert intent.target.y == pytest.approx(-3.0 * params.play.goalie_line / 5.0)
+
+
+def test_a_fast_ball_wide_of_the_goal_or_a_slow_one_at_it_is_no_shot():
+    params = ControlParams()
+    centre_line = 1.0 * params.play.goalie_line / 6.0
+    wide = FusedBall(-L + 6.0, 1.0, -8.0, 4.0, velocity_known=True)  # crosses the line 4.8 m from the centre
+    slow = FusedBall(-L + 6.0, 1.0, -1.5, -0.3, velocity_known=True)  # at 1.5 m/s: a dribble
+    for ball in (wide, slow):
+        assert keep_goal(state(ball), params).target.y == pytest.approx(centre_line)
+    shot = FusedBall(-L + 6.0, 1.0, -8.0, -1.0, velocity_known=True)
+    t = (params.play.goalie_line - 6.0) / -8.0
+    assert keep_goal(state(shot), params).target.y == pytest.approx(1.0 - 1.0 * t)
