@@ -169,7 +169,7 @@ def plot_shot_map(shots: Sequence[Shot], teams: Sequence[str], field: FieldGeome
                for o, (m, c, s) in SHOT_STYLES.items()]
     handles.append(Line2D([], [], marker="o", color="white", markeredgecolor="black", linestyle="none",
                           label="hollow: lob"))
-    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=9)
+    fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=len(handles), fontsize=9)
     fig.suptitle(title)
-    fig.savefig(path, dpi=100, bbox_inches="tight")
+    fig.savefig(path, dpi=100, bbox_inches="tight")  # the legend hangs below the axes' labels, inside the picture
     return fig
