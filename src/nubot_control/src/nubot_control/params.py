@@ -94,9 +94,9 @@ class PlayParams:
     goalie_line: float = 0.4  # the goalie guards the goal this far ahead of its goal line [m]
     lob_line: float = -0.2  # ... and meets a lob coming down into the goal this far ahead of the line (behind it:
     # a lob aimed under the bar is lower there, and comes down on the goalie's body, not over it) [m]
-    goalie_shot_speed: float = 2.0  # a ball at least this fast whose line crosses the goal mouth (half a metre either
-    # side) is a shot the goalie steps into; a slower one (a dribble, a pass across) leaves it on the line from the goal's
-    # centre to the ball [m/s]
+    goalie_shot_speed: float = 2.0  # a ball at least this fast whose line crosses the goal mouth (half a metre
+    # either side) is a shot the goalie steps into; a slower one (a dribble, a pass across) leaves it on the line
+    # from the goal's centre to the ball [m/s]
     goalie_id: int = 1
     team_size: int = 5
 
