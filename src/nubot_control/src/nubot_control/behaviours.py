@@ -152,7 +152,8 @@ def attack(state: TeamState, params: ControlParams, cp: ChanceParams, carried: f
     shot = max(flat.chance if flat is not None else 0.0, lob)
     options = pass_options(state, params, cp)
     pressed = _pressed(state)
-    safe = [o for o in options if o.margin >= (0.0 if pressed else play.pass_margin)]
+    safe = [o for o in options if o.margin >= play.pass_margin]  # pressed or not: a pass cut off near
+    # our goal is a shot against us (most goals came from a ball won within 5 m of the goal)
     best_pass = safe[0].value if safe else -1.0
     if shot >= (play.last_chance if must_go else play.shot_threshold) and shot >= best_pass:
         if lob > (flat.chance if flat is not None else 0.0):

@@ -211,6 +211,24 @@ def test_a_pressed_carrier_passes_to_a_free_teammate_rather_than_shoot_a_poor_ch
     assert out.action == Action.PASS and out.pass_cmd.catch_id == 3
 
 
+@pytest.mark.parametrize("lurker_y, passes", [(0.6, True), (0.8, False)])
+def test_a_pressed_carrier_passes_only_when_the_pass_beats_every_opponent_by_the_margin(lurker_y, passes):
+    """Pressed in its own half, a pass an opponent may reach in time is not worth the risk: it clears instead."""
+    from nubot_control.behaviours import pass_options
+    from nubot_control.chances import ChanceParams
+
+    mate = RobotReport(3, Pose2D(-1.0, 3.0, 0))
+    presser, lurker = (-5.6, -0.9), (-3.0, lurker_y)  # one at its side, one near the pass's line
+    state = holder_state((-5.0, 0.0), math.atan2(3.0, 4.0), [presser, lurker, (8.6, 0.0)], mates=(mate,))
+    params = ControlParams()
+    (option,) = pass_options(state, params, ChanceParams())
+    assert 0.0 <= option.margin and (option.margin >= params.play.pass_margin) == passes, "the setting holds"
+    out = Strategy(params, WorldDescription(), 2).step(state)
+    assert (out.action == Action.PASS) == passes
+    if not passes:
+        assert out.action == Action.DRIBBLE and out.pass_cmd is None, "it turns to clear the ball instead"
+
+
 def test_a_carrier_lets_the_ball_go_before_3_m():
     """With nobody to pass to and no shot, it carries the ball at most carry_limit from where it caught it."""
     strategy = Strategy(ControlParams(), WorldDescription(), 2)
