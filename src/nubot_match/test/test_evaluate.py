@@ -74,22 +74,23 @@ def test_every_match_has_a_seed_of_its_own_and_pairs_swap_the_sides():
 
 
 def test_the_yardsticks_scale_to_two_halves_of_15_min_and_say_whether_they_are_met():
-    # two matches of 2 x 5 min of play: 4 and 2 goals are 12 and 6 per 2 x 15 min; 2 collisions a minute
+    # two matches of 2 x 5 min of play and 200 s of stoppages: 4 and 2 goals in 800 s on the match clock are 9 and
+    # 4.5 per 2 x 15 min; 2 collisions a running minute
     counts = [{"running_s": 600.0, "stopped_s": 200.0, "goals": g, "shots": 20.0, "shots_scored": g,
                "passes_tried": 10.0, "passes_completed": 8.0, "collisions": 20.0, "fouls_pushing": 1.0,
                "goals_turnover": g} for g in (4.0, 2.0)]
     s = summarise([result(0, 2, 2, match=counts[0]), result(1, 1, 1, match=counts[1])])
-    assert s.yardsticks["goals"].mean == pytest.approx(9.0)
-    assert s.yardsticks["shots_per_team_half"].mean == pytest.approx(15.0)
+    assert s.yardsticks["goals"].mean == pytest.approx(6.75)
+    assert s.yardsticks["shots_per_team_half"].mean == pytest.approx(11.25)
     assert s.yardsticks["scoring_share"].mean == pytest.approx(0.15)
     assert s.yardsticks["collisions_per_minute"].mean == pytest.approx(2.0)
     assert s.yardsticks["pass_completion"].mean == pytest.approx(0.8)
     assert s.yardsticks["running_share"].mean == pytest.approx(0.75)
-    assert s.fouls["pushing"].mean == pytest.approx(3.0) and s.causes["turnover"].mean == pytest.approx(9.0)
+    assert s.fouls["pushing"].mean == pytest.approx(2.25) and s.causes["turnover"].mean == pytest.approx(6.75)
     table = table_text(s)
-    assert "| goals per match (2 x 15 min of play) | 9.00 [" in table and "| 3 to 10 | yes |" in table
+    assert "| goals per match (2 x 15 min match clock) | 6.75 [" in table and "| 3 to 10 | yes |" in table
     assert "| robot-robot collisions per running minute | 2.00 (CI unknown" not in table  # equal: a zero-width CI
-    assert "| fouls: pushing | 3.00 " in table and "| goals from: turnover | 9.00 [" in table
+    assert "| fouls: pushing | 2.25 " in table and "| goals from: turnover | 6.75 [" in table
     crowded = summarise([result(0, 9, 9, match={**counts[0], "collisions": 600.0})])
     assert "| robot-robot collisions per running minute | 60.00 (CI unknown: one unit) | at most 5 | NO |" in \
         table_text(crowded)

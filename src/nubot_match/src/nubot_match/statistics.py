@@ -13,7 +13,9 @@ use the t distribution over the matches; the goal difference pairs the two match
 (``MatchResult.pair``: one unit, n pairs, n - 1 degrees of freedom), which takes what an end or a
 kick-off gives out of the comparison; wins, draws and losses use the Wilson score interval per match
 (``scipy.stats.binomtest``); with one unit an interval is unknown (NaN) and said so. Yardsticks are
-per 2 x 15 min of play (the game clock): shorter halves are scaled to it.
+per MSL match (2 x 15 min on the match clock, which runs through stoppages as the MSL RefBox's game time does;
+our referee's half clock runs only while the ball is in play): each match's counts are scaled by its running plus
+stopped time within the halves; collisions are per minute of running time.
 """
 
 from __future__ import annotations
@@ -35,7 +37,7 @@ WORDS = {"goals": "goals", "shots": "shots", "shots_on_target": "shots on target
 # The whole match's counts behind the yardsticks (besides fouls_<kind> and goals_<cause>, one per kind).
 MATCH_COUNTS = ("running_s", "stopped_s", "goals", "shots", "shots_scored", "passes_tried", "passes_completed",
                 "collisions")
-MATCH_SECONDS = 1800.0  # an MSL match: 2 x 15 min of play [s]
+MATCH_SECONDS = 1800.0  # an MSL match: 2 x 15 min on the RefBox's game clock, stoppages included [s]
 
 
 @dataclass(frozen=True)
@@ -101,8 +103,9 @@ class Yardstick:
 
 
 def _per_match(counts: dict[str, float], key: str) -> float | None:
-    running = counts.get("running_s", 0.0)
-    return counts.get(key, 0.0) * MATCH_SECONDS / running if running > 0 else None
+    """``key`` per MSL match: scaled by the match clock (running and stopped time within the halves)."""
+    clock = counts.get("running_s", 0.0) + counts.get("stopped_s", 0.0)
+    return counts.get(key, 0.0) * MATCH_SECONDS / clock if clock > 0 else None
 
 
 def _share(numerator: str, denominator: str) -> Callable[[dict[str, float]], float | None]:
@@ -125,7 +128,7 @@ def _running_share(counts: dict[str, float]) -> float | None:
 
 
 YARDSTICKS = (
-    Yardstick("goals", "goals per match (2 x 15 min of play)", lambda c: _per_match(c, "goals"), 3.0, 10.0),
+    Yardstick("goals", "goals per match (2 x 15 min match clock)", lambda c: _per_match(c, "goals"), 3.0, 10.0),
     Yardstick("shots_per_team_half", "shots per team per 15 min half",
               lambda c: (v / 4.0 if (v := _per_match(c, "shots")) is not None else None)),
     Yardstick("scoring_share", "share of shots that score", _share("shots_scored", "shots"), 0.10, 0.30),
@@ -153,7 +156,7 @@ class Summary:
     outcomes: dict[str, tuple[int, Interval]]  # wins / draws / losses of HOME: count, share with CI
     goal_difference: Interval  # HOME minus AWAY goals per match
     yardsticks: dict[str, Interval] = field(default_factory=dict)  # YARDSTICKS by name
-    fouls: dict[str, Interval] = field(default_factory=dict)  # per match (2 x 15 min of play), by kind
+    fouls: dict[str, Interval] = field(default_factory=dict)  # per match (2 x 15 min match clock), by kind
     causes: dict[str, Interval] = field(default_factory=dict)  # goals per match by what led to them
 
     def to_json(self) -> dict:
@@ -240,7 +243,7 @@ def table_text(s: Summary) -> str:
     d = s.goal_difference
     lines.append(f"| goal difference ({s.home} - {s.away}; pairs each way round) | {d.text()} | |")
     if s.yardsticks:
-        lines += ["", "| an MSL match? (per 2 x 15 min of play, 95 % CI) | mean | target | met |",
+        lines += ["", "| an MSL match? (per 2 x 15 min match clock, 95 % CI) | mean | target | met |",
                   "| --- | --- | --- | --- |"]
         for y in YARDSTICKS:
             value = s.yardsticks.get(y.name)
