@@ -28,6 +28,7 @@ from nubot_control.team_state import TeamState
 _BLOCK_RADIUS = 0.55  # an opponent this close to a kick's line blocks it [m]
 _MIN_PASS = 2.5  # shorter passes only pass the pressure on [m]
 _CLEAR_SPEED = 8  # a clearance [m/s]
+_MEET_STEP = 0.8  # a receiver meets a pass this far up the ball's line from where it stands [m]
 _PRESSURE_RADIUS = 1.5  # an opponent this close makes the holder look for a pass [m]
 
 
@@ -255,15 +256,17 @@ def pass_to(state: TeamState, mate: RobotReport, params: ControlParams, static: 
 
 
 def catch_pass(state: TeamState, plan: PassCommand, params: ControlParams) -> Intent:
-    """Stand at the catch point facing the ball, dribbler on."""
-    ball = state.ball
+    """Wait at the catch point facing the ball, dribbler on; once the ball rolls free (kicked: no teammate holds it)
+    towards the receiver, go to meet it on its line (``_MEET_STEP`` ahead of the receiver's nearest point of it): the
+    ball then has less way to go for an opponent to cut it off."""
+    ball, me = state.ball, state.me.pose
     cx, cy = plan.catch_pt
-    if plan.is_passout and ball.known:
-        # Meet the rolling ball on its line, as close to the catch point as possible.
-        speed = math.hypot(ball.vx, ball.vy)
-        if speed > 0.5:
-            ux, uy = ball.vx / speed, ball.vy / speed
-            t = max(0.0, (cx - ball.x) * ux + (cy - ball.y) * uy)
+    speed = math.hypot(ball.vx, ball.vy)
+    if ball.known and speed > 0.5 and not any(m.holding for m in state.team):
+        ux, uy = ball.vx / speed, ball.vy / speed
+        ahead = (me.x - ball.x) * ux + (me.y - ball.y) * uy  # how far down the ball's line the receiver stands
+        if ahead > 0.0 or plan.is_passout:
+            t = max(0.0, ahead - _MEET_STEP)
             x, y = ball.x + ux * t, ball.y + uy * t
             return Intent(_facing(x, y, ball.x, ball.y), Action.CATCH, dribble=True)
     return Intent(_facing(cx, cy, ball.x, ball.y), Action.CATCH, dribble=True)

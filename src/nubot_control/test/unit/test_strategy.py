@@ -307,3 +307,25 @@ def test_near_our_goal_the_passive_robot_blocks_the_lane_to_the_side_the_goalie_
     expected = (-4.5 + lane[0] / d * 1.6, 2.5 + lane[1] / d * 1.6)
     assert (out.target.x, out.target.y) == pytest.approx(expected, abs=1e-6)
     assert block_lane(team_state(me, (keeper,), FusedBall(3.0, 0.0)), ControlParams()) is None, "far away: none"
+
+
+def test_a_receiver_goes_to_meet_a_pass_on_the_ball_s_line():
+    """The ball rolls towards the receiver a little off it: the receiver steps onto the line, towards the ball, so
+    the ball has less way to go for an opponent to cut it off; a ball that has rolled past is run after."""
+    from nubot_common.team_play import PassCommand
+    from nubot_control.behaviours import catch_pass
+
+    me = RobotReport(3, Pose2D(0.0, 0.0, math.pi), role=Role.CATCHOFPASS)
+    plan = PassCommand(2, 3, (-4.0, 0.3), (0.0, 0.0), is_passout=True, is_dynamic_pass=True)
+    rolling = FusedBall(-4.0, 0.3, vx=4.0, velocity_known=True)
+    out = catch_pass(team_state(me, (), rolling), plan, ControlParams())
+    assert out.action == Action.CATCH and out.dribble
+    assert out.target.y == pytest.approx(0.3), "on the ball's line"
+    assert -1.5 < out.target.x < -0.3, "up the line, towards the ball"
+    assert abs(math.cos(out.target.theta) + 1.0) < 1e-6, "facing the ball"
+    past = FusedBall(1.0, 0.3, vx=2.0, velocity_known=True)
+    out = catch_pass(team_state(me, (), past), plan, ControlParams())
+    assert (out.target.x, out.target.y) == pytest.approx((1.0, 0.3)), "after the ball"
+    passer = RobotReport(2, Pose2D(-4.4, 0.3, 0.0), holding=True)
+    carried = catch_pass(team_state(me, (passer,), rolling), plan, ControlParams())
+    assert (carried.target.x, carried.target.y) == pytest.approx((0.0, 0.0)), "a held ball is not kicked yet: wait"
