@@ -138,15 +138,15 @@ def pass_options(state: TeamState, params: ControlParams, cp: ChanceParams) -> l
 
 
 def attack(state: TeamState, params: ControlParams, cp: ChanceParams, carried: float = 0.0,
-           wants_pass: bool = False, caught_at: tuple[float, float] | None = None) -> Intent:
+           wants_pass: bool = False, caught_at: tuple[float, float] | None = None, held: float = 0.0) -> Intent:
     """With the ball: shoot when the shot's chance to score is good (``shot_threshold``), else pass when a safe
     pass is worth more or the robot is pressed or asked to, else dribble towards a better shot (or away from the
     pressure) within ``carry_limit`` of where it caught the ball (``caught_at``); when the ball has been carried
-    ``carry_limit`` it must go: the best shot or pass there is, else it is pushed ahead and taken again (the rules
-    allow that, not carrying it on)."""
+    ``carry_limit``, or held for ``hold_limit`` [s] (``held``), it must go: the best shot or pass there is, else it
+    is pushed ahead and taken again (the rules allow that, not carrying it on)."""
     play, f = params.play, state.field
     ball = (state.ball.x, state.ball.y)
-    must_go = carried >= play.carry_limit
+    must_go = carried >= play.carry_limit or held >= play.hold_limit
     to_goal = math.hypot(f.half_length - ball[0], ball[1])
     flat = shot_chance(ball, state.opponents, f, play.shot_speed, cp) if to_goal < play.shot_range else None
     lob = lob_chance(ball, state.opponents, f, cp) if 3.0 < to_goal < play.lob_range else 0.0
@@ -164,7 +164,8 @@ def attack(state: TeamState, params: ControlParams, cp: ChanceParams, carried: f
     if safe and (must_go or wants_pass or pressed or best_pass > shot + 0.15) and \
             (best_pass > -0.1 or ball[0] >= 0.0):
         return pass_to(state, safe[0].mate, params)
-    if (pressed or must_go) and ball[0] < 0.0:  # pressed in our half with no pass forward: clear it up the field
+    if (pressed or must_go) and (caught_at or ball)[0] < 0.0:  # pressed in our half (where it was caught: a ball
+        # on the halfway line must not flip the choice every cycle) with no pass forward: clear it up the field
         return clear(state, params, cp, Action.DRIBBLE)
     if must_go:
         if options:  # the least unsafe pass

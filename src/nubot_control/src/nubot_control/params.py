@@ -77,7 +77,7 @@ class PlayParams:
     lob_range: float = 7.0  # no lob from farther than this (the kicker's lob does not reach) [m]
     shot_speed: int = 10  # ground shot [m/s]
     pass_speed_per_metre: float = 0.9  # ground pass speed = clamp(k * distance, 3, 8) [m/s per m]
-    pass_margin: float = 0.15  # pass when the ball beats every opponent by this all along its line (pressed: 0) [s]
+    pass_margin: float = 0.15  # pass when the ball beats every opponent by this all along its line [s]
     kick_spread: float = 2.0  # what the team reckons a kick scatters, aim included (one standard deviation) [deg]
     aim_tolerance: float = 0.08  # pass when facing the receiver this well [rad]
     shot_aim_tolerance: float = 0.03  # shoot when facing the aim point this well [rad]
@@ -90,6 +90,8 @@ class PlayParams:
     block_distance: float = 1.6  # ... this far from the ball, towards the part of the goal the goalie leaves open [m]
     carry_limit: float = 2.4  # the rules allow 3 m with the ball from where it was caught: pass, shoot or let go by
     # this distance [m]
+    hold_limit: float = 4.0  # a robot that has held the ball this long lets it go as at carry_limit (a pressed
+    # carrier turning on the spot carries it nowhere, and would hold it for ever) [s]
     area_time: float = 7.0  # the rules allow 10 s in a penalty area: leave it after this long [s]
     goalie_line: float = 0.4  # the goalie guards the goal this far ahead of its goal line [m]
     lob_line: float = -0.2  # ... and meets a lob coming down into the goal this far ahead of the line (behind it:
@@ -101,8 +103,9 @@ class PlayParams:
     team_size: int = 5
 
     def __post_init__(self) -> None:
-        require_positive(self, "search_distance", "search_turn", "carry_limit", "area_time", "shot_range", "lob_range",
-                         "press_distance", "block_range", "block_distance", "goalie_shot_speed",
+        require_positive(self, "search_distance", "search_turn", "carry_limit", "hold_limit", "area_time",
+                         "shot_range", "lob_range", "press_distance", "block_range", "block_distance",
+                         "goalie_shot_speed",
                          "kick_spread", "shot_aim_tolerance")
         for name in ("shot_threshold", "last_chance"):
             if not 0.0 <= getattr(self, name) <= 1.0:

@@ -70,6 +70,7 @@ class Strategy:
         self._frozen_roles: dict[int, Role] | None = None  # roles a formation was built with, per command
         self._kicked_since_start = False
         self._caught_at: tuple[float, float] | None = None  # where this robot last caught the ball (team frame)
+        self._caught_time = 0.0  # ... and when [s]
         self._in_area_since: dict[bool, float] = {}  # own (True) / the opponents' (False) penalty area: inside since
         body = world.robot
         m = params.motion
@@ -114,9 +115,13 @@ class Strategy:
         me, ball = state.me, state.ball
         if me.holding:
             if self._caught_at is None:
-                self._caught_at = (ball.x, ball.y)
+                self._caught_at, self._caught_time = (ball.x, ball.y), state.time
         elif self._caught_at is not None and math.hypot(ball.x - me.pose.x, ball.y - me.pose.y) > _RELEASED:
             self._caught_at = None
+
+    def held(self, state: TeamState) -> float:
+        """How long [s] this robot has held the ball since it caught it (0 when it does not hold it)."""
+        return state.time - self._caught_time if self._caught_at is not None and state.me.holding else 0.0
 
     def carried(self, state: TeamState) -> float:
         """How far [m] the ball is from where this robot caught it (0 when it does not hold it)."""
@@ -216,7 +221,7 @@ class Strategy:
                 if receiver is not None:
                     return bh.pass_to(state, receiver, self.params, static=True), roles, static
                 return bh.attack(state, self.params, self.chances, self.carried(state),
-                                 caught_at=self._caught_at), roles, static
+                                 caught_at=self._caught_at, held=self.held(state)), roles, static
             return bh.chase_ball(state, self.params), roles, static
         if state.previous_mode in OUR_SET_PLAYS and self.agent_id == plan.receiver:
             roles[plan.receiver] = Role.CATCHOFPASS
@@ -240,7 +245,7 @@ class Strategy:
         if role == Role.ACTIVE:
             if state.me.holding:
                 return bh.attack(state, self.params, self.chances, self.carried(state),
-                                 caught_at=self._caught_at), roles, (0, 0)
+                                 caught_at=self._caught_at, held=self.held(state)), roles, (0, 0)
             if carrier is not None:
                 return bh.press(state, self.params), roles, (0, 0)
             return bh.chase_ball(state, self.params), roles, (0, 0)

@@ -247,6 +247,28 @@ def test_a_carrier_lets_the_ball_go_before_3_m():
     assert math.dist(kicked_at, (-4.0 + 0.43, 0.0)) < 3.0, "released inside the 3 m circle"
 
 
+def test_a_carrier_pinned_on_the_halfway_line_lets_the_ball_go_after_hold_limit():
+    """Pressed where it cannot move, on the halfway line, with no pass and no shot: it lets the ball go within
+    hold_limit and a turn, however its position jitters across the line (a match once stood still for 15 min)."""
+    strategy = Strategy(ControlParams(), WorldDescription(), 2)
+    hold_limit = ControlParams().play.hold_limit
+    me = RobotReport(2, Pose2D(0.0, 1.8, math.pi / 2), holding=True, role=Role.ACTIVE, role_time=5.0)
+    mates = (RobotReport(1, Pose2D(-8.5, 0, 0)),)
+    opponents = [(-0.9, 1.6), (0.9, 2.2), (2.0, -1.0), (-2.0, -1.0), (8.6, 0.0)]  # pressed from both sides
+    dt, kicked_after = 1 / 33, None
+    for k in range(int((hold_limit + 4.0) / dt)):
+        jitter = 0.1 if k % 2 else -0.1  # the pose estimate wanders across x = 0
+        me = replace(me, pose=Pose2D(jitter, 1.8, me.pose.theta))
+        ball = FusedBall(me.pose.x + 0.43 * math.cos(me.pose.theta), me.pose.y + 0.43 * math.sin(me.pose.theta))
+        out = strategy.step(team_state(me, mates, ball, opponents, t=1.0 + k * dt))
+        if out.kick is not None:
+            kicked_after = k * dt
+            break
+        me = replace(me, pose=Pose2D(me.pose.x, me.pose.y, me.pose.theta + out.velocity.w * dt))  # pinned: turns only
+    assert kicked_after is not None, "the ball must go"
+    assert kicked_after < hold_limit + 3.0
+
+
 def test_the_active_robot_presses_an_opponent_playing_the_ball_from_between_ball_and_goal():
     me = RobotReport(2, Pose2D(-1.0, 2.0, 0), role=Role.ACTIVE, role_time=5.0)
     carrier = (1.0, 0.0)
