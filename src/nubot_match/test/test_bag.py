@@ -27,7 +27,8 @@ from nubot_tools import match_report
 from nubot_tools.processes import RosMaster, wait_until
 
 HALF_SECONDS = 10.0
-SEED = 6  # kicks, and a goal the referee disallows (with the engine of this writing)
+SEED = 6  # a match with kicks (no seed of 0..39 has a referee call in 2 x 10 s with today's teams: a call recorded in a
+# bag and reported is tested on a real ROS match, coach4sim/test/integration/test_referee_node.py)
 TEAM_POSES = [{"x": -8.4, "y": 0.0}, {"x": -1.0, "y": 0.5}]  # a goalie and a field player (team frame [m])
 MATCH_TOPICS = {"/clock", "/sim_visual/model_states", "/sim_visual/world_description", "/referee/state",
                 "/nubot/receive_from_coach", "/rival/receive_from_coach"}
@@ -86,7 +87,7 @@ def test_report_of_the_bag_agrees_with_the_match_log(played, tmp_path):
                 "coach_commands", "possession", "distance_run_m", "running_time_s", "fouls", "referee_calls"):
         assert _close_to(report[key], direct[key]), (key, report[key], direct[key])
     assert report["kicks"], "the match should have kicks to compare"
-    assert [c["kind"] for c in report["referee_calls"]] == ["goal_disallowed"], "a call to compare"
+    assert [c["kind"] for c in report["referee_calls"]] == [c.kind for c in log.calls]
     assert len(report["referee_events"]) >= 4  # both halves begin and end
     assert report["collisions"]["total"] == direct["collisions"]["total"]
 
