@@ -59,6 +59,16 @@ def test_is_shot(velocity, xy, kind, side, shot):
     assert ma.is_shot(kick(0.0, "nubot1", velocity, xy, kind), side, FIELD) is shot
 
 
+@pytest.mark.parametrize(("speed", "shot"), [(3.5, False), (3.7, True)])
+def test_a_ground_kick_at_the_goal_too_slow_to_reach_its_line_is_a_pass_not_a_shot(speed, shot):
+    # from x = 0.7 m straight at the goal line at 9 m: 8.3 m to roll; at 0.78 m/s^2 a ball needs 3.6 m/s for that
+    assert ma.is_shot(kick(0.0, "nubot1", (speed, 0.0, 0.0), (0.7, 0.0)), 1, FIELD, decel=0.78) is shot
+    log = ma.MatchLog(kicks=[kick(1.0, "nubot1", (speed, 0.0, 0.0), (0.7, 0.0))], start=0.0, end=2.0)
+    summary = ma.analyse(log, WORLD)
+    assert summary.shot_counts() == {"nubot": int(shot)}
+    assert summary.pass_counts()["nubot"]["tried"] == int(not shot)
+
+
 def test_shots_are_judged_on_the_world_s_field():
     # from x = 9.5 m straight at +x: behind the goal line of the 18 m field, 1.5 m before that of the 22 m field
     log = ma.MatchLog(kicks=[kick(1.0, "nubot1", (6.0, 0.0, 0.0), (9.5, 0.0))], start=0.0, end=2.0)

@@ -33,8 +33,8 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
 - kick in play: a kick during running time; kicks outside it are counted apart only;
 - shot: a kick in play from at most ``SHOT_DISTANCE`` (10 m) from the centre of the goal its team attacks,
   whose straight-line ground direction crosses that goal line at most ``SHOT_WIDE_MARGIN`` (1 m) outside a
-  post, or any such lob (kind 1) towards that goal (``match_shots`` says which were on target and how
-  each ended);
+  post and which, rolling at the ball's deceleration, gets there (a slower one is a pass), or any lob (kind 1)
+  towards that goal (``match_shots`` says which were on target and how each ended);
 - pass tried: a kick in play that is not a shot, aimed at a teammate (its line passes within
   ``PASS_AIM`` (1 m) of one ahead, within the distance the ball rolls; any kick when no teammate's
   track covers its time); the others are clearances, counted apart. A pass is completed when the next touch by a
@@ -560,9 +560,10 @@ def shot_line(kick: Kick, side: int, field: FieldGeometry) -> tuple[float, float
     return goal_x, y0 + vy * (goal_x - x0) / vx
 
 
-def is_shot(kick: Kick, side: int, field: FieldGeometry) -> bool:
+def is_shot(kick: Kick, side: int, field: FieldGeometry, decel: float = 0.0) -> bool:
     """True when the kick goes towards the goal at ``side`` (+1/-1) from at most ``SHOT_DISTANCE`` from its centre:
-    any lob, or a ground kick whose line crosses the goal line at most ``SHOT_WIDE_MARGIN`` outside a post."""
+    any lob, or a ground kick whose line crosses the goal line at most ``SHOT_WIDE_MARGIN`` outside a post and that,
+    rolling at ``decel`` [m/s^2] (0: without slowing), gets there (a slower ball is a pass, not a shot)."""
     if kick.velocity[0] * side <= 0.0:
         return False
     if math.hypot(side * field.half_length - kick.ball_xy[0], kick.ball_xy[1]) > SHOT_DISTANCE:
@@ -570,7 +571,10 @@ def is_shot(kick: Kick, side: int, field: FieldGeometry) -> bool:
     if kick.kind == 1:
         return True
     crossing = shot_line(kick, side, field)
-    return crossing is not None and abs(crossing[1]) <= field.goal_width / 2.0 + SHOT_WIDE_MARGIN
+    if crossing is None or abs(crossing[1]) > field.goal_width / 2.0 + SHOT_WIDE_MARGIN:
+        return False
+    speed2 = kick.velocity[0] ** 2 + kick.velocity[1] ** 2
+    return speed2 >= 2.0 * decel * math.dist(crossing, kick.ball_xy)
 
 
 def aimed_at_teammate(kick: Kick, tracks: dict[str, Track], decel: float) -> bool | None:
@@ -605,7 +609,7 @@ def classify_kicks(log: MatchLog, intervals: Sequence[tuple[float, float]], defa
         team = team_of(kick.robot)
         in_play = inside(kick.t, intervals) >= 0
         side = attack_at(log.referee, kick.t, default_attack).get(team, 0)
-        shot = in_play and side != 0 and is_shot(kick, side, field)
+        shot = in_play and side != 0 and is_shot(kick, side, field, decel)
         outcome, receiver, clearance = "", "", False
         if in_play and not shot:
             clearance = aimed_at_teammate(kick, log.tracks, decel) is False

@@ -12,7 +12,7 @@ Definitions (``DEFINITIONS`` repeats them in report.json):
 
 - shot: a kick in play towards the goal its team attacks from at most ``SHOT_DISTANCE`` (10 m) from its centre: a
   lob (kind 1), or a ground kick whose straight line crosses the attacked goal line within ``SHOT_WIDE_MARGIN``
-  (1 m) outside a post; on target:
+  (1 m) outside a post and that rolls that far (``match_analysis.is_shot``); on target:
   that line crosses between the posts (a lob: also below the bar, in a flight without drag);
 - a shot's outcome, by the first of: a goal for its team within ``SHOT_TIME`` (4 s) with no touch by the shooter's
   team in between (touches by defenders deflect it) -> goal (disallowed: the referee did not count it); a touch by
@@ -67,7 +67,8 @@ _STARTROBOT = 15
 DEFINITIONS = {
     "shot": f"a kick in play towards the attacked goal from at most {ma.SHOT_DISTANCE:g} m from its centre: any lob "
             f"(kind 1) towards it, or a ground "
-            f"kick whose straight line crosses the attacked goal line within {ma.SHOT_WIDE_MARGIN:g} m outside a post; "
+            f"kick whose straight line crosses the attacked goal line within {ma.SHOT_WIDE_MARGIN:g} m outside a post "
+            "and that rolls that far at the ball's deceleration (a slower one is a pass); "
             "on target: between the posts (a lob also below the bar, flight without drag)",
     "shot_outcome": f"goal: a goal for the shooter's team within {SHOT_TIME:g} s, no touch by that team in between "
                     "(disallowed: one the referee did not count); "
@@ -218,11 +219,9 @@ def classify_shots(summary: ma.MatchSummary, log: ma.MatchLog, goalies: dict[str
     default = ma.default_attack_for(summary.teams, *_default_attack(summary))
     shots = []
     for k in summary.kicks:
-        if not k.in_play:
+        if not k.shot:
             continue
         side = ma.attack_at(log.referee, k.kick.t, default).get(k.team, 0)
-        if side == 0 or not ma.is_shot(k.kick, side, f):
-            continue
         crossing = ma.shot_line(k.kick, side, f) or (side * f.half_length, k.kick.ball_xy[1])
         stop = intervals[ma.inside(k.kick.t, intervals)][1]
         outcome, by = _outcome(k, side, summary, touches, touch_times, stop, goalies)
