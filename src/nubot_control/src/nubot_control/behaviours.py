@@ -17,6 +17,7 @@ from enum import IntEnum
 
 from nubot_common.ball_flight import time_to_x
 from nubot_common.commands import KickCommand, KickKind
+from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, wrap_angle
 from nubot_common.percepts import RobotReport
 from nubot_common.team_play import PassCommand, Role
@@ -54,6 +55,7 @@ class Intent:
     dribble: bool = False
     kick: KickCommand | None = None
     pass_cmd: PassCommand | None = None
+    urgent: bool = False  # no plan: straight there, as fast as the limits allow (the goalie stepping into a shot)
 
 
 _facing = Pose2D.looking_at
@@ -333,33 +335,56 @@ def mark(state: TeamState, opponent: tuple[float, float], params: ControlParams)
     return Intent(_facing(ox + dx / d, oy + dy / d, state.ball.x, state.ball.y), Action.MARK)
 
 
+def goalie_spot(ball: tuple[float, float], field: FieldGeometry, goalie_line: float) -> tuple[float, float]:
+    """Where the goalie stands against a ball at ``ball`` (team frame, own goal at -x [m]): ``goalie_line`` [m] off
+    the goal line, on the bisector of the angle the goal mouth makes at the ball (the two sides of the goal it leaves
+    open look equally wide from the ball), at most 0.2 m inside a post."""
+    bx, by = ball
+    gx, half = -field.half_length, field.goal_width / 2.0
+    inside = half - 0.2
+    x = gx + goalie_line
+    dx = dy = 0.0
+    for post in (half, -half):  # the bisector's direction: the sum of the unit vectors to the posts
+        d = max(math.hypot(gx - bx, post - by), 1e-6)
+        dx, dy = dx + (gx - bx) / d, dy + (post - by) / d
+    if bx - x < 0.1 or dx > -1e-6:  # the ball level with the guarded line: guard it on the ball's side
+        return x, max(-inside, min(inside, by))
+    return x, max(-inside, min(inside, by + (x - bx) / dx * dy))
+
+
 def keep_goal(state: TeamState, params: ControlParams, cp: ChanceParams | None = None) -> Intent:
-    """Guard the goal: meet a lob where it comes down into the goal (the RGB-D cameras' flight), stand where a ball
-    coming at the goal crosses the guarded line, else on the line from the goal's centre to the ball; take a slow
-    ball in the goal area and clear it up the field, away from the opponents (``clear``); the goal's centre when the
-    ball is lost."""
-    f, ball, play = state.field, state.ball, params.play
+    """Guard the goal: meet a lob where it comes down into the goal (the RGB-D cameras' flight); against a shot (a
+    ball at least ``goalie_shot_speed`` fast whose line crosses the goal mouth, half a metre either side) step to
+    the nearest point of its line at once (``urgent``: no plan, the quickest way); else stand at ``goalie_spot`` (on
+    the bisector of the angle the goal makes at the ball);
+    take a slow ball in the goal area and clear it up the field, away from the opponents (``clear``); the goal's
+    centre when the ball is lost."""
+    f, ball, play, me = state.field, state.ball, params.play, state.me.pose
+    cp = cp or ChanceParams()
     line_x = -f.half_length + play.goalie_line
     if state.me.holding:
-        return clear(state, params, cp or ChanceParams(), Action.KEEP_GOAL)
+        return clear(state, params, cp, Action.KEEP_GOAL)
     lob = _meet_lob(state, params)
     if lob is not None:
         return lob
     if not ball.known:
         return Intent(Pose2D(line_x, 0.0, 0.0), Action.KEEP_GOAL)
     in_area = ball.x < -f.half_length + f.penalty_area_length and abs(ball.y) < f.penalty_area_width / 2
-    if in_area and math.hypot(ball.vx, ball.vy) < 1.0:
+    speed = math.hypot(ball.vx, ball.vy)
+    if in_area and speed < 1.0:
         intent = chase_ball(state, params)
         return Intent(intent.target, Action.KEEP_GOAL, dribble=intent.dribble)
-    y = ball.y * play.goalie_line / max(ball.x + f.half_length, play.goalie_line)  # on the line from the goal's
-    # centre to the ball: the angle a shot has is shared out evenly
-    if ball.vx < -0.5 and math.hypot(ball.vx, ball.vy) >= play.goalie_shot_speed:
-        crossing = ball.y + ball.vy * (line_x - ball.x) / ball.vx
-        if abs(crossing) < f.goal_width / 2 + 0.5:  # a shot at the goal: stand where it will cross the line
-            y = crossing
-    half = f.goal_width / 2 - 0.2
-    y = max(-half, min(half, y))
-    return Intent(_facing(line_x, y, ball.x, ball.y), Action.KEEP_GOAL)
+    if ball.vx < -0.5 and speed >= play.goalie_shot_speed:
+        crossing = ball.y + ball.vy * (-f.half_length - ball.x) / ball.vx
+        if abs(crossing) < f.goal_width / 2 + 0.5:  # a shot at the goal: across its line, the shortest way
+            ux, uy = ball.vx / speed, ball.vy / speed
+            ahead = max((me.x - ball.x) * ux + (me.y - ball.y) * uy, 0.0)
+            x, y = ball.x + ux * ahead, ball.y + uy * ahead
+            if x < -f.half_length:  # not behind the goal line: where the line crosses it
+                x, y = -f.half_length, crossing
+            return Intent(_facing(x, y, ball.x, ball.y), Action.KEEP_GOAL, urgent=True)
+    x, y = goalie_spot((ball.x, ball.y), f, play.goalie_line)
+    return Intent(_facing(x, y, ball.x, ball.y), Action.KEEP_GOAL)
 
 
 def _meet_lob(state: TeamState, params: ControlParams) -> Intent | None:

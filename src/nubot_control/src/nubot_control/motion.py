@@ -175,18 +175,21 @@ class MotionController:
 
     def command(self, me: Pose2D, target: Pose2D, obstacles: Sequence[tuple[float, ...]], dt: float,
                 speed_limit: float | None = None, holding: bool = False,
-                no_go: Sequence[Rect] = ()) -> tuple[float, float, float]:
+                no_go: Sequence[Rect] = (), urgent: bool = False) -> tuple[float, float, float]:
         """One cycle's body-frame command towards ``target`` (position and heading)."""
-        return self.follow(me, [(target.x, target.y)], target.theta, obstacles, dt, speed_limit, holding, no_go)
+        return self.follow(me, [(target.x, target.y)], target.theta, obstacles, dt, speed_limit, holding, no_go,
+                           urgent)
 
     def follow(self, me: Pose2D, waypoints: list[tuple[float, float]], heading: float,
                obstacles: Sequence[tuple[float, ...]], dt: float, speed_limit: float | None = None,
-               holding: bool = False, no_go: Sequence[Rect] = ()) -> tuple[float, float, float]:
+               holding: bool = False, no_go: Sequence[Rect] = (), urgent: bool = False) -> tuple[float, float, float]:
         """One cycle's body-frame command along ``waypoints`` (the last is the goal), ending facing ``heading``;
         ``no_go``: rectangles (team frame) it must not enter (``areas.no_go``: the areas the rules keep it out of).
 
         The mpc tracker passes through the waypoints in order (a waypoint is dropped once passed);
-        the baseline heads for the first one and drops it within 0.3 m.
+        the baseline heads for the first one and drops it within 0.3 m. ``urgent`` (the goalie stepping into a
+        shot) goes the baseline's way with either tracker: no plan to make or keep, the full acceleration at once;
+        the mpc tracker plans anew afterwards.
         """
         started = time.perf_counter()
         p = self.params
@@ -194,7 +197,9 @@ class MotionController:
         limit = min(p.max_speed, speed_limit or p.max_speed, p.dribble_speed if holding else math.inf)
         accel = p.dribble_accel if holding else p.max_accel
         goals = [self.bounds.clamp(w) for w in waypoints]
-        if self.mpc is not None:
+        if urgent:
+            self.trajectory, self._plan_keepable = None, False
+        if self.mpc is not None and not urgent:
             vx, vy = self._track(me, goals, obstacles, dt, limit, accel)
         else:
             if goals != self._given:  # a new route; else go on with what remains of it

@@ -93,12 +93,13 @@ class PlayParams:
     hold_limit: float = 4.0  # a robot that has held the ball this long lets it go as at carry_limit (a pressed
     # carrier turning on the spot carries it nowhere, and would hold it for ever) [s]
     area_time: float = 7.0  # the rules allow 10 s in a penalty area: leave it after this long [s]
-    goalie_line: float = 0.4  # the goalie guards the goal this far ahead of its goal line [m]
+    goalie_line: float = 0.4  # the goalie guards the goal this far ahead of its goal line, on the bisector of the
+    # angle the goal makes at the ball (``behaviours.goalie_spot``) [m]
     lob_line: float = -0.2  # ... and meets a lob coming down into the goal this far ahead of the line (behind it:
     # a lob aimed under the bar is lower there, and comes down on the goalie's body, not over it) [m]
     goalie_shot_speed: float = 2.0  # a ball at least this fast whose line crosses the goal mouth (half a metre
-    # either side) is a shot the goalie steps into; a slower one (a dribble, a pass across) leaves it on the line
-    # from the goal's centre to the ball [m/s]
+    # either side) is a shot the goalie steps into (straight, no plan); a slower one (a dribble, a pass across)
+    # leaves it at its spot [m/s]
     goalie_id: int = 1
     team_size: int = 5
 

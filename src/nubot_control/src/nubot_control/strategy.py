@@ -98,7 +98,7 @@ class Strategy:
         else:
             velocity = BodyVelocity(*self.motion.command(state.me.pose, intent.target, self._obstacles(state, intent),
                                                          dt, intent.speed_limit, holding=state.me.holding,
-                                                         no_go=self._no_go(role, state)))
+                                                         no_go=self._no_go(role, state), urgent=intent.urgent))
         kick = intent.kick if state.me.holding else None
         if kick is not None:
             self._my_pass, self._pass_time = intent.pass_cmd, state.time

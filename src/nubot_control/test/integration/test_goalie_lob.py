@@ -98,6 +98,7 @@ def test_a_goalie_seeing_through_its_cameras_meets_a_lob_where_it_comes_down(ros
     from nubot_common.params import load_yaml
     from nubot_common.srv import SpawnModel
     from nubot_common.world_description import load_world
+    from nubot_control.behaviours import goalie_spot
     from nubot_control.params import ControlParams
     from nubot_match.config import CONFIG
     from nubot_tools.bench_goalie import LOB_LIFT, ball_launch, seeded_shots
@@ -126,16 +127,15 @@ def test_a_goalie_seeing_through_its_cameras_meets_a_lob_where_it_comes_down(ros
                                             "nubot_common/CoachInfo", "\nMatchMode: 15\nMatchType: 0 "])
 
         def settled() -> bool:
-            """The goalie sees the still ball: it has taken its place on the line from its goal's centre to the
-            ball, play/goalie_line out, and stands there."""
+            """The goalie sees the still ball: it has taken its place (``goalie_spot``: on the bisector of the angle
+            its goal makes at the ball, play/goalie_line out) and stands there."""
             with watch.lock:
                 recent = [s for s in watch.states if s[0] > watch.states[-1][0] - SETTLE] if watch.states else []
             return bool(recent) and recent[-1][0] - recent[0][0] > SETTLE - 0.1 and all(
                 s[2][2] < 0.05 and math.hypot(s[2][0] - place[0], s[2][1] - place[1]) < 0.08 for s in recent)
 
         goal_x, play = -world.field.half_length, load_yaml(ControlParams, CONFIG["control"]).play
-        towards = math.atan2(launch.y, launch.x - goal_x)
-        place = (goal_x + play.goalie_line * math.cos(towards), play.goalie_line * math.sin(towards))
+        place = goalie_spot((launch.x, launch.y), world.field, play.goalie_line)
         wait_until(settled, 60, f"the goalie standing in its place ({place[0]:.2f}, {place[1]:.2f})")
         struck_at = watch.now()
         _set_ball(launch.x, launch.y, radius + LOB_LIFT, launch.vx, launch.vy, launch.vz)

@@ -1,4 +1,5 @@
-"""Unit tests of the goalie's keep_goal: lobs met where they come down, ground balls on the ball-goal line."""
+"""Unit tests of the goalie's keep_goal: lobs met where they come down, shots met on their line at once, and its
+spot against a still ball (goalie_spot: on the bisector of the angle the goal makes at the ball)."""
 
 import math
 
@@ -10,7 +11,8 @@ from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import MatchMode
 from nubot_common.percepts import Ball3dPercept, RobotReport
 from nubot_common.world_state import BallFlight, FusedBall
-from nubot_control.behaviours import Action, keep_goal
+from nubot_control.behaviours import Action, goalie_spot, keep_goal
+from nubot_control.chances import ChanceParams, shot_chance
 from nubot_control.params import ControlParams, PlayParams
 from nubot_control.team_state import TeamState
 
@@ -48,32 +50,84 @@ def test_a_lob_coming_down_in_front_of_the_goal_is_met_where_it_lands():
 
 def test_a_ball_on_the_ground_or_flying_away_or_wide_is_not_a_lob_to_meet():
     params = ControlParams()
-    line_x = -L + params.play.goalie_line
+    spot = goalie_spot((-L + 5.0, 1.0), F, params.play.goalie_line)
     ground = BallFlight.of(Ball3dPercept(1.0, -L + 5.0, 1.0, R, 0.0, 0.0, 0.0, True), R, 0.1)
     away = flying(-L + 5.0, 1.0, 1.0, 4.0, 0.0, 2.0)
     wide = flying(-L + 4.0, 4.0, 1.5, -6.0, 0.0, 1.0)
     for flight in (ground, away, wide):
         intent = keep_goal(state(FusedBall(-L + 5.0, 1.0), flight), params)
-        assert intent.target.x == pytest.approx(line_x)
+        assert (intent.target.x, intent.target.y) == pytest.approx(spot)
 
 
-def test_against_a_still_ball_the_goalie_stands_on_the_line_from_the_goal_centre_to_the_ball():
+def _off_the_bisector(ball, spot) -> float:
+    """How far [rad] the line from the ball through ``spot`` is off the bisector of the angle the goal makes at the
+    ball."""
+    ux = uy = 0.0
+    for post in (F.goal_width / 2, -F.goal_width / 2):
+        d = math.hypot(-L - ball[0], post - ball[1])
+        ux, uy = ux + (-L - ball[0]) / d, uy + (post - ball[1]) / d
+    sx, sy = spot[0] - ball[0], spot[1] - ball[1]
+    return abs(math.atan2(ux * sy - uy * sx, ux * sx + uy * sy))
+
+
+@pytest.mark.parametrize("ball", [(-L + 4.0, 0.0), (-L + 4.0, 2.0), (-L + 3.0, -2.5), (-L + 6.5, 3.0), (-L + 8.0, -1.0),
+                                  (-L + 5.0, 4.0)])
+def test_against_a_still_ball_the_goalie_stands_on_the_bisector_of_the_angle_the_goal_makes_at_it(ball):
     params = ControlParams()
-    line_x = -L + params.play.goalie_line
-    ball = FusedBall(-L + 4.0, 2.0)
-    intent = keep_goal(state(ball), params)
-    # on the segment goal centre -> ball, at the guarded line
-    assert intent.target.x == pytest.approx(line_x)
-    assert intent.target.y == pytest.approx(2.0 * params.play.goalie_line / 4.0)
+    play = params.play
+    spot = goalie_spot(ball, F, play.goalie_line)
+    assert spot[0] == pytest.approx(-L + play.goalie_line)
+    assert _off_the_bisector(ball, spot) < 1e-6
+
+    def shooters_chance(keeper) -> float:  # the shooter's frame has the goal at +x
+        return shot_chance((-ball[0], -ball[1]), [(-keeper[0], -keeper[1])], F, play.shot_speed, ChanceParams()).chance
+
+    on_the_centre_line = (-L + play.goalie_line, ball[1] * play.goalie_line / (ball[0] + L))
+    assert shooters_chance(spot) <= shooters_chance(on_the_centre_line) + 1e-9, \
+        "from the ball the goal looks no more open than with the goalie on the line to the goal's centre"
 
 
-def test_a_ground_shot_is_met_where_it_crosses_the_guarded_line():
+def test_the_goalie_keeps_within_the_posts_and_on_the_ball_s_side_of_a_ball_level_with_it():
+    line = ControlParams().play.goalie_line
+    inside = F.goal_width / 2 - 0.2
+    assert goalie_spot((-L + 0.5, 3.0), F, line)[1] == pytest.approx(inside)
+    assert goalie_spot((-L + 0.2, -0.5), F, line) == pytest.approx((-L + line, -0.5))
+
+
+def test_a_ground_shot_is_met_on_its_line_the_shortest_way_and_at_once():
     params = ControlParams()
-    line_x = -L + params.play.goalie_line
+    me = (-L + 0.6, 0.2)
     ball = FusedBall(-L + 5.0, 0.0, -8.0, 1.2, velocity_known=True)
+    intent = keep_goal(state(ball, me=me), params)
+    assert intent.urgent, "no plan: straight there"
+    speed = math.hypot(ball.vx, ball.vy)
+    ux, uy = ball.vx / speed, ball.vy / speed
+    ahead = (me[0] - ball.x) * ux + (me[1] - ball.y) * uy
+    foot = (ball.x + ux * ahead, ball.y + uy * ahead)  # where the goalie's perpendicular meets the ball's line
+    assert (intent.target.x, intent.target.y) == pytest.approx(foot)
+
+
+def test_a_ball_dribbled_across_towards_the_goal_leaves_the_goalie_at_its_spot():
+    """A slow ball whose line would cross far wide (an opponent dribbling diagonally in) is no shot: the goalie keeps
+    its spot between ball and goal instead of running to a post."""
+    params = ControlParams()
+    ball = FusedBall(-L + 5.0, -3.0, -1.0, 1.5, velocity_known=True)
     intent = keep_goal(state(ball), params)
-    t = (line_x - ball.x) / ball.vx
-    assert (intent.target.x, intent.target.y) == pytest.approx((line_x, 1.2 * t))
+    assert not intent.urgent
+    spot = goalie_spot((ball.x, ball.y), F, params.play.goalie_line)
+    assert (intent.target.x, intent.target.y) == pytest.approx(spot)
+
+
+def test_a_fast_ball_wide_of_the_goal_or_a_slow_one_at_it_is_no_shot():
+    params = ControlParams()
+    spot = goalie_spot((-L + 6.0, 1.0), F, params.play.goalie_line)
+    wide = FusedBall(-L + 6.0, 1.0, -8.0, 4.0, velocity_known=True)  # crosses the line 4.8 m from the centre
+    slow = FusedBall(-L + 6.0, 1.0, -1.5, -0.3, velocity_known=True)  # at 1.5 m/s: a dribble
+    for ball in (wide, slow):
+        intent = keep_goal(state(ball), params)
+        assert (intent.target.x, intent.target.y) == pytest.approx(spot) and not intent.urgent
+    shot = FusedBall(-L + 6.0, 1.0, -8.0, -1.0, velocity_known=True)
+    assert keep_goal(state(shot), params).urgent
 
 
 def test_the_lob_line_must_lie_behind_the_guarded_line():
@@ -85,24 +139,3 @@ def test_gravity_of_the_flight_is_the_shared_one():
     f = flying(0.0, 0.0, 1.0, -1.0, 0.0, 0.0)
     _, _, when = f.touchdown
     assert when - 1.0 == pytest.approx(math.sqrt(2 * (1.0 - R) / -GRAVITY))
-
-
-def test_a_ball_dribbled_across_towards_the_goal_leaves_the_goalie_between_ball_and_goal():
-    """A slow ball whose line would cross far wide (an opponent dribbling diagonally in) is no shot: the goalie keeps
-    its place on the line from the goal's centre to the ball instead of running to a post."""
-    params = ControlParams()
-    ball = FusedBall(-L + 5.0, -3.0, -1.0, 1.5, velocity_known=True)
-    intent = keep_goal(state(ball), params)
-    assert intent.target.y == pytest.approx(-3.0 * params.play.goalie_line / 5.0)
-
-
-def test_a_fast_ball_wide_of_the_goal_or_a_slow_one_at_it_is_no_shot():
-    params = ControlParams()
-    centre_line = 1.0 * params.play.goalie_line / 6.0
-    wide = FusedBall(-L + 6.0, 1.0, -8.0, 4.0, velocity_known=True)  # crosses the line 4.8 m from the centre
-    slow = FusedBall(-L + 6.0, 1.0, -1.5, -0.3, velocity_known=True)  # at 1.5 m/s: a dribble
-    for ball in (wide, slow):
-        assert keep_goal(state(ball), params).target.y == pytest.approx(centre_line)
-    shot = FusedBall(-L + 6.0, 1.0, -8.0, -1.0, velocity_known=True)
-    t = (params.play.goalie_line - 6.0) / -8.0
-    assert keep_goal(state(shot), params).target.y == pytest.approx(1.0 - 1.0 * t)

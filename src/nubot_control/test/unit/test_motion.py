@@ -239,3 +239,21 @@ def test_the_guard_leaves_sideways_passing_and_robots_behind_alone():
     vx, vy = keep_clear((0.0, 0.0), (3.0, 1.0), [(0.8, 0.0)], gap, brake, latency)  # in the way, 0.2 m of room
     assert vx == pytest.approx(-brake * latency + math.sqrt((brake * latency) ** 2 + 2 * brake * 0.2))
     assert vy == 1.0
+
+
+def test_an_urgent_step_goes_straight_at_full_acceleration_with_either_tracker_and_the_mpc_plans_anew_after():
+    """The goalie stepping into a shot: no plan to make, the whole acceleration limit from the first cycle on."""
+    me, target = Pose2D(-8.6, 0.0, 0.0), Pose2D(-8.6, 1.0, 0.0)
+    firsts = {}
+    for tracker in TRACKERS:
+        ctl = MotionController(MotionParams(tracker=tracker), WorldDescription(), DT)
+        velocity = ctl.command(me, target, [], DT, urgent=True)
+        assert ctl.trajectory is None
+        firsts[tracker] = rotate(velocity[0], velocity[1], me.theta)
+        if tracker == "mpc":
+            ctl.command(me, target, [], DT)
+            assert ctl.trajectory is not None, "a plan again once the step is over"
+    assert firsts["mpc"] == pytest.approx(firsts["baseline"])
+    assert firsts["mpc"] == pytest.approx((0.0, P.max_accel * DT))
+    planned = MotionController(MotionParams(tracker="mpc"), WorldDescription(), DT).command(me, target, [], DT)
+    assert planned[1] < firsts["mpc"][1], "the plan's first step is the gentler one"
