@@ -101,6 +101,12 @@ class FieldGeometry:
         """Half the goal's width outside its posts, where its side nets hang [m]."""
         return self.goal_width / 2.0 + 2.0 * self.post_radius
 
+    def in_goal(self, x: float, y: float, margin: float = 0.0) -> bool:
+        """True when (x, y) lies on the ground inside a goal: behind its goal line, between its side nets, at most
+        ``goal_depth`` + ``margin`` behind the line."""
+        behind = abs(x) - self.half_length
+        return 0.0 < behind <= self.goal_depth + margin and abs(y) < self.goal_outer_half_width
+
     def goal_holding(self, x: float, y: float, z: float, ball_radius: float) -> int:
         """The goal that holds a ball centred at (x, y, z): 1 (at +x), -1 (at -x) or 0 (none).
 

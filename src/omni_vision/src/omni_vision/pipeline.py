@@ -5,9 +5,9 @@ Requires: the match's ``WorldDescription`` (the field's lines, the ball's and th
 as they arrive, wheel odometry (``odometry``: body-frame velocity, ~50 Hz), the inertial heading
 (``inertial``: team frame, 0 facing the goal the team attacks) and camera frames (``process``: RGB).
 Provides: ``OmniVision.process`` -> ``VisionFrame``: the ``RobotView`` world_model reads (the robot's
-pose from self-localization, its velocity from odometry, the ball and the obstacles placed on the field,
-all in the team frame) plus what the debug image and the benchmarks show (line points, detections,
-the localization estimate, each stage's time).
+pose from self-localization, its velocity from odometry, the ball and the obstacles placed on the field, none
+inside a goal: its dark ground is no robot; all in the team frame) plus what the debug image and the
+benchmarks show (line points, detections, the localization estimate, each stage's time).
 
 The stages, in order: read the frame along the radial scan lines (colour classes through the table);
 white line points; the ball; the obstacles; self-localization (odometry prediction, line matching,
@@ -160,5 +160,8 @@ class OmniVision:
         percept = None
         if ball is not None and estimate.localized:
             percept = BallPercept(t, *pose.to_world(ball.x, ball.y))
-        seen = tuple(pose.to_world(o.x, o.y) for o in obstacles) if estimate.localized else ()
+        seen = ()
+        if estimate.localized:  # the dark ground inside a goal is black too, but no robot (MSL teams drop it alike)
+            seen = tuple(p for p in (pose.to_world(o.x, o.y) for o in obstacles)
+                         if not field.in_goal(p[0], p[1], self.world.robot.radius))
         return RobotView(t, robot, percept, seen)

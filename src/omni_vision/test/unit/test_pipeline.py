@@ -151,6 +151,19 @@ def test_ball_and_obstacles_land_near_their_true_team_frame_positions(sensors, a
         assert any(close_enough(o, other) for o in seen), f"robot at {other} (world) not among {seen}"
 
 
+@pytest.mark.parametrize("pose", [(-8.6, -0.3, 0.0), (-8.75, -0.47, -2.55), (8.7, 0.6, 2.0)])
+def test_the_dark_ground_inside_a_goal_is_no_robot(sensors, pose):
+    """A robot before a goal sees the goal's dark inside among its black: no obstacle is reported in a goal,
+    and the robot that stands in front of the goal is (the goalie would otherwise shy away from its own goal)."""
+    me = still(*pose)
+    other = (math.copysign(7.4, pose[0]), 1.2)
+    frame = run_frames(new_vision(), sensors, me, 3, others=(still(*other),))[-1]
+    assert frame.localized
+    seen = frame.view.obstacles
+    assert not [o for o in seen if WORLD.field.in_goal(*o, WORLD.robot.radius)], f"saw {seen}"
+    assert len(seen) == 1 and math.dist(seen[0], other) < 0.05 * math.dist(other, pose[:2]) + 0.05, f"saw {seen}"
+
+
 @pytest.mark.parametrize(("distance", "bearing", "holding"), [(0.45, 0.0, True), (1.5, 0.0, False),
                                                               (0.45, math.pi / 2, False)])
 def test_holding_is_a_ball_right_in_front(sensors, distance, bearing, holding):
