@@ -39,8 +39,9 @@ evaluate: setup
 	@export HOME=$$(getent passwd $$(id -u) | cut -d: -f6) && $(ROS) python scripts/evaluate.py \
 	  --home $(if $(filter command line,$(origin HOME)),$(HOME),$(HOME_TEAM_DEFAULT)) \
 	  --away $(or $(AWAY),$(AWAY_TEAM_DEFAULT)) --matches $(MATCHES) --half-seconds $(HALF_SECONDS) \
-	  --field $(FIELD) --seed $(SEED) --tracker $(TRACKER) \
-	  $(if $(JOBS),--jobs $(JOBS),) $(if $(SCHEDULER),--scheduler $(SCHEDULER),)
+	  --field $(FIELD) --seed $(SEED) $(if $(filter command line,$(origin TRACKER)),--tracker $(TRACKER),) \
+	  $(if $(JOBS),--jobs $(JOBS),) $(if $(SCHEDULER),--scheduler $(SCHEDULER),) \
+	  $(if $(OUT),--out $(OUT),) $(if $(RESUME),--resume,)
 
 # The integration tests one at a time (each starts its own roscore and real-time nodes) and, beside them at a
 # lower priority, the lint and the unit tests on every core (pytest-xdist, a test file per worker):

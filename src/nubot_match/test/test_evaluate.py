@@ -140,6 +140,28 @@ def test_ctrl_c_stops_the_workers_and_keeps_the_finished_matches(tmp_path):
     assert not leftovers, f"workers left running: {leftovers}"
 
 
+def test_resume_plays_only_the_matches_the_earlier_run_lacks_and_refuses_other_options(tmp_path):
+    home, away = teams(tmp_path)
+    out = tmp_path / "eval"
+    common = ("--home", home, "--away", away, "--half-seconds", 3, "--halves", 1, "--jobs", 1, "--out", out)
+    first = evaluate("--matches", 1, *common)
+    assert first.returncode == 0, first.stderr[-2000:]
+    before = json.loads((out / "results.json").read_text())["matches"]
+    done = evaluate("--matches", 2, "--resume", *common)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "1 finished before, 1 to play" in done.stdout and "2 of 2 matches finished" in done.stdout
+    data = json.loads((out / "results.json").read_text())
+    assert data["finished"] == 2 and data["resumed"] == 1
+    assert [m["seed"] for m in data["matches"]] == [0, 1] and data["matches"][0] == before[0], \
+        "the earlier match is kept as it was, the new one has the next seed"
+    assert {m["pair"] for m in data["matches"]} == {0}, "with it, the new match makes a pair"
+    other = evaluate("--matches", 2, "--resume", *common[:-6], "--halves", 2, *common[-4:])
+    assert other.returncode == 2 and "was played with halves 1, not 2" in other.stderr, other.stderr[-2000:]
+    nothing = evaluate("--matches", 2, "--resume", *common[:-1], tmp_path / "elsewhere")
+    assert nothing.returncode == 2 and "no earlier evaluation in" in nothing.stderr
+    assert "Traceback" not in other.stderr + nothing.stderr
+
+
 @pytest.mark.integration
 def test_the_same_evaluation_runs_on_a_local_two_worker_dask_cluster(tmp_path):
     from distributed import LocalCluster

@@ -2,6 +2,7 @@
 
     python scripts/evaluate.py --home A.yaml --away B.yaml --matches 40 --half-seconds 300 [--jobs N]
                                [--scheduler tcp://host:8786] [--field 18x12] [--tracker mpc] [--seed 0]
+                               [--out DIR [--resume]]
 
 Requires: two team YAMLs (a team may name a strategy class of its own, ``nubot_control.plugins``).
 Match i is played with seed ``--seed + i``; odd matches swap the sides (AWAY kicks off and each team
@@ -14,7 +15,9 @@ match with its goals explained, failures, the summary with 95 % confidence inter
 an MSL match, the verdict, the throughput; rewritten after each match, so an interrupted evaluation keeps
 what finished), ``table.md`` and ``goal_difference.png``; a progress bar with an ETA on stderr, the table
 and the verdict on stdout.
-Ctrl-C stops the workers and keeps the finished matches. Exit status: 0, 1 if a match failed or the
+Ctrl-C stops the workers and keeps the finished matches; ``--resume`` with the same ``--out`` and options
+plays only the matches its results.json lacks (the interrupted or failed ones, or more of them with a larger
+``--matches``) and reports them all together. Exit status: 0, 1 if a match failed or the
 evaluation was interrupted, 2 for bad options (a clear message, no traceback).
 """
 
@@ -225,12 +228,43 @@ def _atomic_write(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
+RESUME_KEYS = ("home", "away", "half_seconds", "halves", "field", "tracker", "seed")  # what makes the matches
+
+
+def _same_team(a: str, b: str) -> bool:
+    return Path(a).resolve() == Path(b).resolve()
+
+
+def finished_matches(out: Path, options: dict) -> list[MatchResult]:
+    """The matches an earlier evaluation into ``out`` finished, when it played the matches ``options`` ask
+    for (same teams, halves, field, tracker and first seed); else a NubotMatchError that says what differs."""
+    path = out / "results.json"
+    try:
+        data = json.loads(path.read_text())
+        before, matches = data["options"], data["matches"]
+    except FileNotFoundError:
+        raise NubotMatchError(f"--resume: no earlier evaluation in {out} (no results.json)") from None
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise NubotMatchError(f"--resume: cannot read {path}: {exc}") from None
+    for key in RESUME_KEYS:
+        old, new = before.get(key), options[key]
+        same = _same_team(old, new) if key in ("home", "away") and isinstance(old, str) else old == new
+        if not same:
+            raise NubotMatchError(f"--resume: {path} was played with {key} {old!r}, not {new!r}")
+    try:
+        results = [MatchResult(**m) for m in matches]
+    except TypeError as exc:
+        raise NubotMatchError(f"--resume: cannot read the matches of {path}: {exc}") from None
+    return [r for r in results if r.index < options["matches"]]
+
+
 class Evaluation:
     """The results so far, written after every match."""
 
-    def __init__(self, out: Path, options: dict, home: str, away: str):
+    def __init__(self, out: Path, options: dict, home: str, away: str, earlier: Sequence[MatchResult] = ()):
         self.out, self.options, self.home, self.away = out, options, home, away
-        self.results: list[MatchResult] = []
+        self.results: list[MatchResult] = list(earlier)
+        self.resumed = len(self.results)  # of an earlier run: not in this run's throughput
         self.failures: list[dict] = []
         self.start = time.monotonic()
         self.interrupted = False
@@ -246,9 +280,10 @@ class Evaluation:
         results = sorted(self.results, key=lambda r: r.index)
         summary = summarise(results, self.home, self.away)
         wall = time.monotonic() - self.start
-        sim = sum(r.sim_seconds for r in results)
+        sim = sum(r.sim_seconds for r in self.results[self.resumed:])
         data = {"options": self.options, "home": self.home, "away": self.away, "interrupted": self.interrupted,
-                "finished": len(results), "failures": self.failures, "verdict": verdict(summary),
+                "finished": len(results), "resumed": self.resumed, "failures": self.failures,
+                "verdict": verdict(summary),
                 "summary": summary.to_json(),
                 "throughput": {"wall_seconds": round(wall, 1), "sim_seconds": round(sim, 1),
                                "sim_seconds_per_wall_second": round(sim / wall, 2) if wall > 0 else None,
@@ -284,13 +319,21 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="worker processes on this machine")
     parser.add_argument("--scheduler", default="", help="a dask.distributed scheduler, e.g. tcp://host:8786")
     parser.add_argument("--out", type=Path, help="folder of the results (default evaluations/<time>)")
+    parser.add_argument("--resume", action="store_true",
+                        help="keep the matches an earlier evaluation into --out finished; play the others")
     args = parser.parse_args(argv)
+    options = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()}
+    earlier: list[MatchResult] = []
     try:
         if args.jobs < 1:
             raise NubotMatchError(f"--jobs must be at least 1, got {args.jobs}")
         jobs = jobs_for(args.home, args.away, args.matches, args.half_seconds, args.halves, args.field,
                         args.tracker, args.seed)
         config = job_config(jobs[0])  # refuse bad teams, strategies and options before any worker starts
+        if args.resume:
+            if args.out is None:
+                raise NubotMatchError("--resume needs the --out of the evaluation to resume")
+            earlier = finished_matches(args.out, options)
     except NubotMatchError as exc:
         print(f"evaluate: {exc}", file=sys.stderr)
         return 2
@@ -303,17 +346,19 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:
         print(f"evaluate: cannot create {out}: {exc.strerror}", file=sys.stderr)
         return 2
-    options = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()}
-    evaluation = Evaluation(out, options, home, away)
+    evaluation = Evaluation(out, options, home, away, earlier)
+    done = {r.index for r in earlier}
+    total, jobs = len(jobs), [j for j in jobs if j.index not in done]
     try:
         runner: LocalRunner | DaskRunner = DaskRunner(args.scheduler) if args.scheduler else \
-            LocalRunner(min(args.jobs, len(jobs)))
+            LocalRunner(max(1, min(args.jobs, len(jobs))))
     except NubotMatchError as exc:
         print(f"evaluate: {exc}", file=sys.stderr)
         return 2
-    print(f"evaluate: {home} vs {away}, {len(jobs)} matches of {args.halves} x {args.half_seconds:g} s on the "
-          f"{config.world.name} field, seeds {args.seed}..{jobs[-1].seed}, sides swapped every other match, on "
-          f"{runner.where}; results in {out}", flush=True)
+    print(f"evaluate: {home} vs {away}, {total} matches of {args.halves} x {args.half_seconds:g} s on the "
+          f"{config.world.name} field, seeds {args.seed}..{args.seed + total - 1}, sides swapped every other match, "
+          f"on {runner.where}; results in {out}"
+          + (f"; {len(earlier)} finished before, {len(jobs)} to play" if args.resume else ""), flush=True)
     from tqdm import tqdm
 
     tqdm.monitor_interval = 0  # no monitor thread in a process that forks workers
@@ -344,7 +389,7 @@ def main(argv: list[str] | None = None) -> int:
         signal.signal(signal.SIGINT, signal.SIG_IGN)  # the last lines and files are written whole
         bar.close()
     print(evaluation.finish(), flush=True)
-    print(f"evaluate: {len(evaluation.results)} of {len(jobs)} matches finished; results in {out}", flush=True)
+    print(f"evaluate: {len(evaluation.results)} of {total} matches finished; results in {out}", flush=True)
     if previous is not None:  # None: a handler not set from Python
         signal.signal(signal.SIGINT, previous)
     return 1 if evaluation.failures or evaluation.interrupted else 0
