@@ -160,8 +160,8 @@ class OmniVision:
         percept = None
         if ball is not None and estimate.localized:
             percept = BallPercept(t, *pose.to_world(ball.x, ball.y))
-        seen = ()
-        if estimate.localized:  # the dark ground inside a goal is black too, but no robot (MSL teams drop it alike)
+        seen: tuple[tuple[float, float], ...] = ()
+        if estimate.localized:  # the dark ground inside a goal is black too, but no robot
             seen = tuple(p for p in (pose.to_world(o.x, o.y) for o in obstacles)
                          if not field.in_goal(p[0], p[1], self.world.robot.radius))
         return RobotView(t, robot, percept, seen)
