@@ -11,9 +11,9 @@ time [s].
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
-from nubot_common.geometry import Pose2D
+from nubot_common.geometry import Pose2D, wrap_angle
 from nubot_common.team_play import Point, Role
 
 
@@ -75,6 +75,15 @@ class RobotReport:
     static_pass: int = 0  # the passer's AgentID of a set-play pass
     static_catch: int = 0  # the catcher's AgentID of a set-play pass
     target: Point = (0.0, 0.0)  # where it is heading [m]
+
+    def moved_on(self, dt: float) -> RobotReport:
+        """This report ``dt`` [s] later, had the robot kept its velocity (where a teammate whose packet is ``dt``
+        old is now); heading wrapped to (-pi, pi]."""
+        if dt == 0.0:
+            return self
+        pose = self.pose
+        return replace(self, pose=Pose2D(pose.x + self.vx * dt, pose.y + self.vy * dt,
+                                         wrap_angle(pose.theta + self.w * dt)))
 
 
 @dataclass(frozen=True)

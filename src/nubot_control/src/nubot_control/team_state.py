@@ -2,9 +2,10 @@
 
 Requires: a ``WorldState`` (the world model's decision), the control time [s], the goalie's AgentID
 and the field. Provides: ``TeamState`` and ``team_state`` which builds it without deciding anything
-again: the robots the world model holds valid (this robot apart), its fused ball (known or where it
-was last seen) and its flight in 3-D, the obstacles it labels opponents, the game command with the time it came into
-force, the pass it holds in force. The team frame has the own goal at -x and the opponent goal at +x.
+again: the robots the world model holds valid (this robot apart; each teammate where its packet's age
+puts it now), its fused ball (known or where it was last seen) and its flight in 3-D, the obstacles it
+labels opponents, the game command with the time it came into force, the pass it holds in force. The team
+frame has the own goal at -x and the opponent goal at +x.
 """
 
 from __future__ import annotations
@@ -17,12 +18,14 @@ from nubot_common.percepts import RobotReport
 from nubot_common.team_play import PassCommand, Point
 from nubot_common.world_state import BallFlight, FusedBall, WorldState
 
+MAX_PREDICTION = 0.3  # [s] a teammate is moved on by at most this (the world model's teammate_timeout)
+
 
 @dataclass(frozen=True)
 class TeamState:
     time: float  # [s], sim time of this control cycle
     me: RobotReport
-    mates: tuple[RobotReport, ...]  # valid teammates, without me
+    mates: tuple[RobotReport, ...]  # valid teammates, without me, moved on to ``time`` (``team_state``)
     ball: FusedBall  # check ``ball.known``: when not, (x, y) is where it was last seen
     opponents: tuple[Point, ...]  # obstacle positions labelled opponents [m]
     field: FieldGeometry
@@ -44,11 +47,17 @@ class TeamState:
 
 
 def team_state(world: WorldState, time: float, goalie_id: int, field: FieldGeometry) -> TeamState | None:
-    """The strategy's view of ``world`` at control time ``time``; None while the robot itself is not valid."""
+    """The strategy's view of ``world`` at control time ``time``; None while the robot itself is not valid.
+
+    Each teammate is where its last packet puts it now: moved on at its reported velocity for the packet's age at
+    ``time`` (at most ``MAX_PREDICTION``). Two teammates closing at 3 m/s on packets 50-70 ms old would each
+    see the other 0.15-0.2 m farther than it is, more than the contact guard's margin."""
     me = world.me
     if not me.valid or me.report is None:
         return None
-    mates = tuple(r.report for r in world.teammates if r.valid and r.report is not None)
+    since = max(0.0, time - world.stamp)  # the world model's decision is this old; each packet older by its age
+    mates = tuple(r.report.moved_on(min(r.age + since, MAX_PREDICTION)) for r in world.teammates
+                  if r.valid and r.report is not None)
     game = world.game
     return TeamState(time, me.report, mates, world.ball, tuple((o.x, o.y) for o in world.opponents), field,
                      game.mode, game.previous, game.since, world.pass_cmd, goalie_id, world.flight)

@@ -5,10 +5,14 @@ import math
 import numpy as np
 import pytest
 
+from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate
+from nubot_common.percepts import RobotReport
 from nubot_common.world_description import WorldDescription
+from nubot_common.world_state import FusedBall, GameState, Teammate, WorldState
 from nubot_control.motion import MotionController, keep_clear, sub_target
 from nubot_control.params import MotionParams
+from nubot_control.team_state import MAX_PREDICTION, team_state
 
 P = MotionParams()
 ROBOT_RADIUS = WorldDescription().robot.radius  # [m]
@@ -229,6 +233,55 @@ def test_two_robots_driving_at_each_other_both_brake_and_never_touch():
         closest, slowest = min(closest, float(np.linalg.norm(a - b))), min(slowest, float(np.linalg.norm(va)))
     assert closest > 2 * ROBOT_RADIUS
     assert slowest < 0.5, "they braked before meeting"
+
+
+@pytest.mark.parametrize("moved_on", [False, True])
+def test_teammates_sprinting_at_each_other_on_packets_two_cycles_old_keep_apart_only_when_moved_on(moved_on):
+    """Over ROS a teammate's packet is 50-70 ms old when control acts on it (its world model's frame, the team link,
+    this robot's world model), and a command acts a cycle later. Closing at 6 m/s, each sees the other farther than
+    it is by more than the guard's margin, brakes too late and they touch. Moved on at its reported velocity for the
+    packet's age (``RobotReport.moved_on``, as ``team_state`` does), the other is where it is: they stop apart."""
+    lag = 2  # cycles, about 60 ms
+    gap = 2 * ROBOT_RADIUS + P.contact_margin
+    pos, vel = [np.array([0.0, 0.0]), np.array([6.0, 0.05])], [np.zeros(2), np.zeros(2)]
+    history: list[tuple[np.ndarray, ...]] = []
+    commands = [[np.zeros(2)], [np.zeros(2)]]
+    closest, substeps = math.inf, 10
+    for _ in range(int(4.0 / DT)):
+        history.append(tuple(np.copy(x) for x in (*pos, *vel)))
+        seen = history[max(0, len(history) - 1 - lag)]
+        age = min(lag, len(history) - 1) * DT
+        for me, other, sign in ((0, 1, 1.0), (1, 0, -1.0)):
+            report = RobotReport(other + 1, Pose2D(*seen[other]), *seen[2 + other])
+            if moved_on:
+                report = report.moved_on(age)
+            commands[me].append(np.array(keep_clear(tuple(pos[me]), (sign * 3.0, 0.0), [(report.pose.x, report.pose.y)],
+                                                    gap, P.contact_brake, P.contact_latency)))
+        for _ in range(substeps):  # the base follows the command of a cycle ago: accelerates at 3.5, brakes at 5 m/s^2
+            for v, p, command in zip(vel, pos, commands):
+                dv = command[-2] - v
+                limit = (5.0 if np.linalg.norm(command[-2]) < np.linalg.norm(v) else 3.5) * DT / substeps
+                v += dv * min(1.0, limit / max(np.linalg.norm(dv), 1e-12))
+                p += v * DT / substeps
+            closest = min(closest, float(np.linalg.norm(pos[0] - pos[1])))
+    contact = 2 * ROBOT_RADIUS + 0.03  # what the match report counts as a collision
+    if moved_on:
+        assert closest > contact
+    else:
+        assert closest < contact, "the old packets alone let them touch (else this test shows nothing)"
+
+
+def test_a_teammate_is_moved_on_to_the_control_time_by_its_packet_age():
+    me = Teammate(1, True, 0.01, RobotReport(1, Pose2D(0.0, 0.0, 0.0)))
+    mate = Teammate(2, True, 0.05, RobotReport(2, Pose2D(2.0, 1.0, 3.1), vx=-2.0, vy=1.0, w=2.0))
+    stale = Teammate(3, True, 0.29, RobotReport(3, Pose2D(-2.0, 0.0, 0.0), vx=1.0))
+    world = WorldState(10.0, 1, (me, mate, stale), FusedBall(0.0, 0.0), (None,) * 3, (), GameState(), None)
+    state = team_state(world, 10.02, 1, FieldGeometry())
+    moved, capped = state.mates
+    assert (moved.pose.x, moved.pose.y) == pytest.approx((2.0 - 2.0 * 0.07, 1.0 + 0.07))
+    assert moved.pose.theta == pytest.approx(3.1 + 0.14 - 2 * math.pi), "heading moved on and wrapped"
+    assert capped.pose.x == pytest.approx(-2.0 + MAX_PREDICTION), "moved on by at most MAX_PREDICTION"
+    assert state.me.pose == me.report.pose, "this robot's own pose is its world model's"
 
 
 def test_the_guard_leaves_sideways_passing_and_robots_behind_alone():
