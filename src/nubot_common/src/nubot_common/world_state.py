@@ -115,6 +115,8 @@ class LabelledObstacle:
     observer_id: int = 0  # AgentID of the robot that saw it
     angle: float = 0.0  # bearing from this robot's front [rad]
     radius: float = 0.0  # distance from this robot's centre [m]
+    vx: float = 0.0  # [m/s], as this robot's obstacle tracker estimates it; 0 for a teammate's report
+    vy: float = 0.0
 
 
 @dataclass(frozen=True)

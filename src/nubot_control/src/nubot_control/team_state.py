@@ -4,8 +4,9 @@ Requires: a ``WorldState`` (the world model's decision), the control time [s], t
 and the field. Provides: ``TeamState`` and ``team_state`` which builds it without deciding anything
 again: the robots the world model holds valid (this robot apart; each teammate where its packet's age
 puts it now), its fused ball (known or where it was last seen) and its flight in 3-D, the obstacles it
-labels opponents, the game command with the time it came into force, the pass it holds in force. The team
-frame has the own goal at -x and the opponent goal at +x.
+labels opponents (moved on from the world model's time at their tracked velocity), the game command with
+the time it came into force, the pass it holds in force. The team frame has the own goal at -x and the
+opponent goal at +x.
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ class TeamState:
     me: RobotReport
     mates: tuple[RobotReport, ...]  # valid teammates, without me, moved on to ``time`` (``team_state``)
     ball: FusedBall  # check ``ball.known``: when not, (x, y) is where it was last seen
-    opponents: tuple[Point, ...]  # obstacle positions labelled opponents [m]
+    opponents: tuple[Point, ...]  # obstacle positions labelled opponents [m], moved on to ``time``
     field: FieldGeometry
     mode: MatchMode = MatchMode.STOPROBOT
     previous_mode: MatchMode = MatchMode.STOPROBOT
@@ -51,13 +52,16 @@ def team_state(world: WorldState, time: float, goalie_id: int, field: FieldGeome
 
     Each teammate is where its last packet puts it now: moved on at its reported velocity for the packet's age at
     ``time`` (at most ``MAX_PREDICTION``). Two teammates closing at 3 m/s on packets 50-70 ms old would each
-    see the other 0.15-0.2 m farther than it is, more than the contact guard's margin."""
+    see the other 0.15-0.2 m farther than it is, more than the contact guard's margin. The opponents are where
+    the world model put them at its time (its tracks moved on to it), moved on at their velocity to ``time``."""
     me = world.me
     if not me.valid or me.report is None:
         return None
     since = max(0.0, time - world.stamp)  # the world model's decision is this old; each packet older by its age
     mates = tuple(r.report.moved_on(min(r.age + since, MAX_PREDICTION)) for r in world.teammates
                   if r.valid and r.report is not None)
+    ahead = min(since, MAX_PREDICTION)
+    opponents = tuple((o.x + o.vx * ahead, o.y + o.vy * ahead) for o in world.opponents)
     game = world.game
-    return TeamState(time, me.report, mates, world.ball, tuple((o.x, o.y) for o in world.opponents), field,
+    return TeamState(time, me.report, mates, world.ball, opponents, field,
                      game.mode, game.previous, game.since, world.pass_cmd, goalie_id, world.flight)

@@ -93,8 +93,9 @@ def test_a_robot_that_does_not_know_where_it_is_stands_still():
 
 def test_a_robot_whose_world_model_stopped_stands_still_until_a_fresh_one_arrives(make_match):
     """The world model node died: control keeps being called with its last decision; after the timeout it
-    stops the robot and says it is out of play; the next fresh decision puts it back into play."""
-    match = make_match(TEAMS)
+    stops the robot and says it is out of play; the next fresh decision puts it back into play. (The rivals' striker
+    starts far from the ball: nubot2 has it to itself.)"""
+    match = make_match([*TEAMS[:6], ("rival2", 4.0, 0, math.pi), *TEAMS[7:]])
     match.command("nubot", MatchMode.STARTROBOT)
     match.run(1.0)
     last = match.steps["nubot2"].world

@@ -9,7 +9,7 @@ from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate
 from nubot_common.percepts import RobotReport
 from nubot_common.world_description import WorldDescription
-from nubot_common.world_state import FusedBall, GameState, Teammate, WorldState
+from nubot_common.world_state import FusedBall, GameState, LabelledObstacle, ObstacleLabel, Teammate, WorldState
 from nubot_control.motion import MotionController, keep_clear, sub_target
 from nubot_control.params import MotionParams
 from nubot_control.team_state import MAX_PREDICTION, team_state
@@ -282,6 +282,18 @@ def test_a_teammate_is_moved_on_to_the_control_time_by_its_packet_age():
     assert moved.pose.theta == pytest.approx(3.1 + 0.14 - 2 * math.pi), "heading moved on and wrapped"
     assert capped.pose.x == pytest.approx(-2.0 + MAX_PREDICTION), "moved on by at most MAX_PREDICTION"
     assert state.me.pose == me.report.pose, "this robot's own pose is its world model's"
+
+
+def test_opponents_are_moved_on_from_the_world_model_s_time_at_their_tracked_velocity():
+    me = Teammate(1, True, 0.01, RobotReport(1, Pose2D(0.0, 0.0, 0.0)))
+    running = LabelledObstacle(3.0, 1.0, ObstacleLabel.OPPONENT, vx=-2.0, vy=0.5)
+    reported = LabelledObstacle(-4.0, 2.0, ObstacleLabel.OPPONENT)  # a teammate's obstacle: no velocity
+    mate = LabelledObstacle(1.0, 1.0, ObstacleLabel.TEAMMATE, teammate_id=2, vx=1.0)
+    world = WorldState(10.0, 1, (me,), FusedBall(0.0, 0.0), (None,), (running, mate, reported), GameState(), None)
+    moved, still = team_state(world, 10.05, 1, FieldGeometry()).opponents
+    assert moved == pytest.approx((2.9, 1.025)) and still == (-4.0, 2.0)
+    far = team_state(world, 12.0, 1, FieldGeometry()).opponents[0]
+    assert far == pytest.approx((3.0 - 2.0 * MAX_PREDICTION, 1.0 + 0.5 * MAX_PREDICTION)), "at most MAX_PREDICTION"
 
 
 def test_the_guard_leaves_sideways_passing_and_robots_behind_alone():

@@ -1,7 +1,11 @@
-"""Obstacle fusion and labelling: which of the robots seen are teammates, which opponents.
+"""Obstacle tracking, fusion and labelling: where the robots seen are going, which are teammates, which opponents.
 
 Requires: this robot's own obstacles and pose, the obstacles its valid teammates
 report, the valid teammates' own positions (team frame, [m]). Provides:
+``ObstacleTracker``: own obstacle percepts followed from frame to frame (each percept to the nearest track within a
+gate, nearest pairs first), each track an alpha-beta filter (a constant-velocity Kalman filter in its steady state)
+that smooths the percepts' noise and estimates the robot's velocity; a track no percept continues is kept for a
+short coast, then dropped.
 ``label_obstacles``: own obstacles first, then teammates' obstacles that are no robot
 already listed (farther than ``merge_radius`` from each) and not this robot itself
 (farther than ``teammate_radius`` from its pose); each obstacle within
@@ -13,21 +17,98 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 
 from nubot_common.geometry import Pose2D
 from nubot_common.team_play import Point
 from nubot_common.world_state import LabelledObstacle, ObstacleLabel
 
 
+@dataclass
+class _Track:
+    x: float  # [m] at ``stamp``
+    y: float
+    vx: float  # [m/s]
+    vy: float
+    stamp: float  # [s] of the last percept
+    n: int = 1  # percepts taken
+
+
+class ObstacleTracker:
+    """Own obstacle percepts of successive frames, followed as tracks: ``update`` with each frame, ``estimate`` to read.
+
+    A percept continues the nearest track predicted to its frame's time within ``gate`` [m] (the closest pairs
+    first); the track moves by ``position_gain`` of the difference and its velocity by ``velocity_gain`` of it per
+    frame interval (larger shares while the track is young: its first percepts count as in a straight-line fit, so a
+    robot first seen running has its velocity within a few frames); the speed is at most ``max_speed`` [m/s]. A
+    percept no track takes starts one at rest. A track
+    no percept continues is kept ``coast`` [s] after its last percept (a robot hidden for a frame or two), then
+    dropped. With percepts 0.05 m apart from the truth at 30 frames a second the gains 0.4 and 0.1 halve the noise,
+    and a robot speeding up at 4 m/s^2 is followed about 0.03 m behind."""
+
+    def __init__(self, gate: float, position_gain: float, velocity_gain: float, coast: float, max_speed: float):
+        if not 0.0 < position_gain <= 1.0 or not 0.0 <= velocity_gain < position_gain:
+            raise ValueError(f"the gains must satisfy 0 <= velocity_gain < position_gain <= 1, got {position_gain} "
+                             f"and {velocity_gain}")
+        self.gate, self.position_gain, self.velocity_gain = gate, position_gain, velocity_gain
+        self.coast, self.max_speed = coast, max_speed
+        self._tracks: list[_Track] = []
+        self._stamp = -math.inf
+
+    def reset(self) -> None:
+        self._tracks = []
+        self._stamp = -math.inf
+
+    def update(self, stamp: float, percepts: Sequence[Point]) -> None:
+        """The obstacles of the frame taken at ``stamp`` [s]; a frame not newer than the last is ignored."""
+        if not stamp > self._stamp:
+            return
+        self._stamp = stamp
+        tracks = [k for k in self._tracks if stamp - k.stamp <= self.coast]
+        hypot = math.hypot
+        predicted = [(k.x + k.vx * (stamp - k.stamp), k.y + k.vy * (stamp - k.stamp)) for k in tracks]
+        pairs = sorted((d, i, j) for i, (px, py) in enumerate(predicted) for j, z in enumerate(percepts)
+                       if (d := hypot(z[0] - px, z[1] - py)) <= self.gate)
+        taken_tracks: set[int] = set()
+        taken: set[int] = set()
+        for _, i, j in pairs:
+            if i in taken_tracks or j in taken:
+                continue
+            taken_tracks.add(i)
+            taken.add(j)
+            k, (px, py), z = tracks[i], predicted[i], percepts[j]
+            dt = stamp - k.stamp
+            k.n += 1  # a young track weighs its few percepts as a straight-line fit would, then the steady gains
+            a = max(self.position_gain, 2.0 * (2 * k.n - 1) / (k.n * (k.n + 1)))
+            b = max(self.velocity_gain, 6.0 / (k.n * (k.n + 1)))
+            rx, ry = z[0] - px, z[1] - py
+            vx, vy = k.vx + b * rx / dt, k.vy + b * ry / dt
+            speed = hypot(vx, vy)
+            if speed > self.max_speed:
+                vx, vy = vx * self.max_speed / speed, vy * self.max_speed / speed
+            k.x, k.y, k.vx, k.vy, k.stamp = px + a * rx, py + a * ry, vx, vy, stamp
+        tracks.extend(_Track(z[0], z[1], 0.0, 0.0, stamp) for j, z in enumerate(percepts) if j not in taken)
+        self._tracks = tracks
+
+    def estimate(self, t: float) -> tuple[tuple[Point, ...], tuple[Point, ...]]:
+        """The tracks of the last ``coast`` [s] before the latest frame, moved on to ``t`` [s]: (positions
+        [m], velocities [m/s]), in the same order."""
+        tracks = [k for k in self._tracks if self._stamp - k.stamp <= self.coast]
+        return (tuple((k.x + k.vx * (t - k.stamp), k.y + k.vy * (t - k.stamp)) for k in tracks),
+                tuple((k.vx, k.vy) for k in tracks))
+
+
 def label_obstacles(me: Pose2D, agent_id: int, own: Sequence[Point], reported: Mapping[int, Sequence[Point]],
-                    mates: Mapping[int, Point], teammate_radius: float, merge_radius: float
-                    ) -> tuple[LabelledObstacle, ...]:
-    """Merge and label obstacles; ``reported`` and ``mates`` are keyed by the teammates' AgentIDs."""
+                    mates: Mapping[int, Point], teammate_radius: float, merge_radius: float,
+                    velocities: Sequence[Point] = ()) -> tuple[LabelledObstacle, ...]:
+    """Merge and label obstacles; ``reported`` and ``mates`` are keyed by the teammates' AgentIDs; ``velocities``
+    are those of ``own`` (at rest where missing; teammates' obstacles come without one)."""
     # Plain loops that stop at the first match: run every cycle on a few dozen points, where numpy's
     # per-call overhead and generator expressions cost more than the arithmetic.
     hypot = math.hypot
     mx, my = me.x, me.y
     merged: list[tuple[float, float, int]] = [(p[0], p[1], agent_id) for p in own]
+    moving = {i: v for i, v in enumerate(velocities)}
     for observer in sorted(reported):
         for p in reported[observer]:
             x, y = p[0], p[1]
@@ -40,12 +121,14 @@ def label_obstacles(me: Pose2D, agent_id: int, own: Sequence[Point], reported: M
                 merged.append((x, y, observer))
     others = sorted((aid, q[0], q[1]) for aid, q in mates.items() if aid != agent_id)
     labelled = []
-    for x, y, observer in merged:
+    for n, (x, y, observer) in enumerate(merged):
         mate, best = 0, math.inf
         for aid, qx, qy in others:  # by AgentID: the lower one wins a tie
             d = hypot(x - qx, y - qy)
             if d <= teammate_radius and d < best:
                 mate, best = aid, d
         label = ObstacleLabel.TEAMMATE if mate else ObstacleLabel.OPPONENT
-        labelled.append(LabelledObstacle(x, y, label, mate, observer, me.bearing_to(x, y), me.distance_to(x, y)))
+        vx, vy = moving.get(n, (0.0, 0.0))
+        labelled.append(LabelledObstacle(x, y, label, mate, observer, me.bearing_to(x, y), me.distance_to(x, y),
+                                         vx, vy))
     return tuple(labelled)

@@ -22,7 +22,8 @@ sensors first, in the original's order of trust among those that saw it within `
 vision, then the front camera, then the RGB-D cameras (but the RGB-D ball while it flies: the cameras
 that see the ball on the floor plane misplace a ball in the air); else the freshest own sighting within
 ``ball_timeout``; else the valid teammate nearest to its ball. A ball no valid robot sees is not known
-and stays where it was last seen.
+and stays where it was last seen. Own obstacles are tracked from frame to frame (``ObstacleTracker``): the
+snapshot has them smoothed, moved on to its time, with their velocities; the teammates get the smoothed positions.
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ from nubot_common.world_state import (
 from world_model import WorldModelError
 from world_model.ball_fusion import BallCandidate, BallTrack, agreeing, ball_confidence, choose_ball
 from world_model.game import next_game_state, parse_coach_command, select_pass
-from world_model.obstacles import label_obstacles
+from world_model.obstacles import ObstacleTracker, label_obstacles
 from world_model.params import WorldModelParams
 
 _TIME_JUMP = 1.0  # the clock going back by more than this means a restarted simulation: forget everything [s]
@@ -66,10 +67,14 @@ class WorldModel:
         self._keep = max(params.velocity_window, params.ball_timeout) + 0.1  # history kept per ball track [s]
         self._clock = -math.inf
         self._game = GameState()
+        self._obstacles = ObstacleTracker(params.obstacle_gate, params.obstacle_position_gain,
+                                          params.obstacle_velocity_gain, params.obstacle_coast,
+                                          params.obstacle_max_speed)
         self._forget()
 
     def _forget(self) -> None:
         self._vision: RobotView | None = None
+        self._obstacles.reset()
         self._own_track = BallTrack(self._keep)  # omni vision
         self._front_track = BallTrack(self._keep)
         self._rgbd_track = BallTrack(self._keep)  # the 3-D ball's ground projections
@@ -112,6 +117,7 @@ class WorldModel:
             robot = replace(robot, agent_id=self.agent_id)
         ball = self._plausible(frame.ball)
         self._vision = frame if robot is frame.robot and ball is frame.ball else replace(frame, robot=robot, ball=ball)
+        self._obstacles.update(frame.stamp, frame.obstacles)
         if ball is not None:
             self._own_track.add(ball)
 
@@ -289,7 +295,8 @@ class WorldModel:
             return None
         fresh = t - self._vision.stamp <= self.params.ball_timeout
         report = me.report if me.report.valid == me.valid else replace(me.report, valid=me.valid)
-        return RobotView(self._vision.stamp, report, self._own_ball(t), self._vision.obstacles if fresh else ())
+        return RobotView(self._vision.stamp, report, self._own_ball(t),
+                         self._obstacles.estimate(self._vision.stamp)[0] if fresh else ())
 
     def snapshot(self, t: float) -> WorldState:
         """The fused world model at ``t`` (also remembers the last fused ball position)."""
@@ -308,12 +315,13 @@ class WorldModel:
                 for m in mates if (seen := team_balls[m.agent_id - 1]) is not None and m.report is not None]
         ball = self._fuse_ball(choose_ball(own, team), [c for c in (own, *team) if c is not None], me_pose)
         vision = self._vision
-        own_obstacles = vision.obstacles if vision is not None and t - vision.stamp <= p.ball_timeout else ()
+        own_obstacles, velocities = (self._obstacles.estimate(t) if vision is not None and
+                                     t - vision.stamp <= p.ball_timeout else ((), ()))
         obstacles = label_obstacles(
             me_pose, self.agent_id, own_obstacles,
             {m.agent_id: self._mates[m.agent_id].obstacles for m in mates},
             {m.agent_id: (m.report.pose.x, m.report.pose.y) for m in mates if m.report is not None},
-            p.teammate_radius, p.obstacle_merge_radius)
+            p.teammate_radius, p.obstacle_merge_radius, velocities)
         strategies = [s for s in (self._strategy, *self._mate_strategies.values()) if s is not None]
         pass_cmd = select_pass(self.agent_id, strategies, t, p.teammate_timeout, p.team_size)
         return WorldState(t, self.agent_id, robots, ball, team_balls, obstacles, self._game, pass_cmd,

@@ -1,12 +1,14 @@
-"""Unit tests of obstacle fusion and labelling (world_model.obstacles and through the WorldModel)."""
+"""Unit tests of obstacle tracking, fusion and labelling (world_model.obstacles and through the WorldModel)."""
 
 import math
 
+import numpy as np
 import pytest
 
 from nubot_common.geometry import Pose2D
 from nubot_common.world_state import ObstacleLabel
-from world_model.obstacles import label_obstacles
+from world_model.obstacles import ObstacleTracker, label_obstacles
+from world_model.params import WorldModelParams
 
 ME = Pose2D(-2.0, 0.0, 0.0)
 
@@ -96,3 +98,97 @@ def test_labelling_random_scenes_follows_the_rules():
         out = label_obstacles(*args)
         assert [(o.x, o.y, o.label, o.teammate_id, o.observer_id) for o in out] == _reference_labels(*args)
         assert all(o.radius == pytest.approx(me.distance_to(o.x, o.y)) for o in out)
+
+
+# --- tracking ---------------------------------------------------------------------------------------------------
+FRAME = 1 / 30  # [s] between vision frames
+NOISE = 0.05  # [m] per axis, the simulated omni vision's obstacle noise
+
+
+def tracker(**overrides) -> ObstacleTracker:
+    p = WorldModelParams(**overrides)
+    return ObstacleTracker(p.obstacle_gate, p.obstacle_position_gain, p.obstacle_velocity_gain, p.obstacle_coast,
+                           p.obstacle_max_speed)
+
+
+def test_a_tracked_robot_is_steadier_than_its_percepts_and_its_velocity_is_known():
+    """A robot crossing at (2.0, -1.0) m/s seen with 0.05 m of noise: from a quarter second on the track is nearer
+    the truth than the percepts are (0.57 of their error over 20 seeds), and its velocity within 0.4 m/s (0.26 m/s;
+    root mean squares)."""
+    rng = np.random.default_rng(5)
+    track = tracker()
+    raw, tracked, velocity = [], [], []
+    for k in range(90):
+        t = k * FRAME
+        truth = np.array([-3.0 + 2.0 * t, 1.0 - 1.0 * t])
+        seen = truth + rng.normal(0.0, NOISE, 2)
+        track.update(t, [tuple(seen), (5.0, 5.0)])  # and a robot standing
+        (mover, standing), (v, rest) = track.estimate(t)
+        if t >= 0.25:
+            raw.append(np.linalg.norm(seen - truth))
+            tracked.append(np.linalg.norm(np.array(mover) - truth))
+            velocity.append(np.linalg.norm(np.array(v) - (2.0, -1.0)))
+            assert np.linalg.norm(np.array(standing) - (5.0, 5.0)) < 1e-9 and rest == (0.0, 0.0)
+    rms = lambda e: math.sqrt(np.mean(np.square(e)))  # noqa: E731
+    assert rms(tracked) < 0.75 * rms(raw)
+    assert rms(velocity) < 0.4
+
+
+def test_tracks_follow_their_own_robots_when_two_pass_close():
+    """Two robots passing 0.45 m apart at 3 m/s each, in opposite directions: each track keeps its robot."""
+    track = tracker()
+    for k in range(60):
+        t = k * FRAME
+        track.update(t, [(-3.0 + 3.0 * t, 0.0), (3.0 - 3.0 * t, 0.45)])
+    (a, b), (va, vb) = track.estimate(59 * FRAME)
+    assert a[1] == pytest.approx(0.0, abs=1e-6) and va[0] > 2.5
+    assert b[1] == pytest.approx(0.45, abs=1e-6) and vb[0] < -2.5
+
+
+def test_a_track_no_percept_continues_coasts_then_is_dropped_and_a_new_robot_starts_at_rest():
+    track = tracker(obstacle_coast=0.1)
+    for k in range(30):
+        track.update(k * FRAME, [(k * FRAME, 0.0)])  # 1 m/s along x
+    (x, _), = track.estimate(29 * FRAME)[0]
+    track.update(30 * FRAME, [(4.0, 4.0)])  # hidden now; someone else seen
+    (hidden, new), (v_hidden, v_new) = track.estimate(30 * FRAME)
+    assert hidden[0] == pytest.approx(x + v_hidden[0] * FRAME) and v_hidden[0] > 0.8, "kept, moving on"
+    assert new == (4.0, 4.0) and v_new == (0.0, 0.0)
+    track.update(29 * FRAME + 0.11, [(4.0, 4.0)])
+    assert track.estimate(29 * FRAME + 0.11)[0] == ((4.0, 4.0),), "dropped after the coast"
+    track.update(29 * FRAME + 0.05, [(9.0, 9.0)])
+    assert track.estimate(29 * FRAME + 0.11)[0] == ((4.0, 4.0),), "an older frame changes nothing"
+
+
+def test_a_robot_braking_hard_is_followed_closely():
+    """From 3 m/s to rest at 5 m/s^2 (the base's braking), percepts without noise: the track is never more than
+    0.1 m off, and at rest again within 0.03 m half a second later."""
+    track = tracker()
+    worst = 0.0
+    for k in range(60):
+        t = k * FRAME
+        x = 3.0 * t if t < 0.5 else 1.5 + 3.0 * (t - 0.5) - 2.5 * (t - 0.5) ** 2 if t < 1.1 else 2.4
+        track.update(t, [(x, 0.0)])
+        if t > 0.4:  # the track has found its speed
+            worst = max(worst, abs(track.estimate(t)[0][0][0] - x))
+    assert worst < 0.1
+    assert track.estimate(59 * FRAME)[0][0][0] == pytest.approx(2.4, abs=0.03)
+
+
+@pytest.mark.parametrize("gains", [(0.0, 0.0), (0.4, 0.4), (1.2, 0.1), (0.4, -0.1)])
+def test_gains_that_would_not_settle_are_refused(gains):
+    with pytest.raises(ValueError, match="gain"):
+        WorldModelParams(obstacle_position_gain=gains[0], obstacle_velocity_gain=gains[1])
+
+
+def test_the_world_model_s_opponents_are_tracked_moved_on_and_shared_smoothed(make_model, see):
+    model = make_model(agent_id=1)
+    for k in range(30):
+        see(model, 10.0 + k * FRAME, obstacles=((2.0 + 1.5 * k * FRAME, 0.0),))
+    last = 10.0 + 29 * FRAME
+    state = model.snapshot(last + 0.02)
+    (opponent,) = state.opponents
+    assert opponent.vx == pytest.approx(1.5, abs=0.1) and opponent.vy == pytest.approx(0.0)
+    assert opponent.x == pytest.approx(2.0 + 1.5 * (29 * FRAME + 0.02), abs=0.02), "moved on to the snapshot's time"
+    (shared,) = model.own_view(last + 0.02).obstacles
+    assert shared[0] == pytest.approx(2.0 + 1.5 * 29 * FRAME, abs=0.02), "shared at the frame's time"

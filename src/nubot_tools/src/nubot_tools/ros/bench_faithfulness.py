@@ -20,7 +20,9 @@ seed=s)``, ``MatchLogRecorder``, ``nubot_tools.match_analysis.analyse``) and a R
 
 Provides: ``<out>/faithfulness.json`` (per metric the mean and 95 % Student-t interval,
 ``nubot_match.statistics.mean_interval``, for lockstep and ROS and whether the two intervals overlap; every
-match's figures; ROS matches cut short are listed but left out of the intervals) and
+match's figures; ROS matches cut short are listed but left out of the intervals; the share of the ROS robots'
+control cycles missed, ``run_match.py --perf-json``: a busy machine's cycles come late or not at all, which
+lockstep never has) and
 ``<out>/faithfulness.png`` (per metric both means with their intervals). The ROS matches' folders are kept
 in ``<out>/faithfulness/ros/seed-<s>/``. Not part of ``make bench``: run
 ``make bench-faithfulness SEEDS=4 HALF_SECONDS=90``.
@@ -101,9 +103,10 @@ def play_lockstep(seed: int, half_seconds: float) -> dict:
 def play_ros(seed: int, half_seconds: float, folder: Path) -> dict:
     folder.mkdir(parents=True, exist_ok=True)
     start = time.monotonic()
+    perf_file = folder / f"perf-{time.strftime('%Y%m%d-%H%M%S')}.json"
     status = subprocess.run([sys.executable, str(WORKSPACE / "scripts" / "run_match.py"), "--half-seconds",
-                             str(half_seconds), "--halves", "2", "--seed", str(seed), "--out", str(folder)],
-                            check=False).returncode
+                             str(half_seconds), "--halves", "2", "--seed", str(seed), "--out", str(folder),
+                             "--perf-json", str(perf_file)], check=False).returncode
     wall = time.monotonic() - start
     matches = sorted(folder.glob("match-*/report.json"), key=lambda p: p.stat().st_mtime)
     if not matches:
@@ -111,8 +114,11 @@ def play_ros(seed: int, half_seconds: float, folder: Path) -> dict:
     report = json.loads(matches[-1].read_text())
     run_file = matches[-1].parent / "run.json"
     run = json.loads(run_file.read_text()) if run_file.exists() else {}
+    perf = json.loads(perf_file.read_text()) if perf_file.exists() else {}
     return {"seed": seed, "status": status, "ended": run.get("ended", "unknown"), "folder": str(matches[-1].parent),
-            "sim_seconds": run.get("sim_time"), "wall_seconds": round(wall, 1), **figures(report)}
+            "sim_seconds": run.get("sim_time"), "wall_seconds": round(wall, 1),
+            "missed_cycle_share": perf.get("missed_cycle_share"),
+            "real_time_factor": perf.get("achieved_real_time_factor"), **figures(report)}
 
 
 def _plain(x: float) -> float | None:
@@ -196,5 +202,12 @@ def main(argv: list[str] | None = None) -> int:
     for row in comparison.values():
         print(f"{row['description']:<40} lockstep {row['lockstep']['mean']}  ROS {row['ros']['mean']}  "
               f"overlap: {row['intervals_overlap']}")
+    timing = [m for m in complete if m.get("missed_cycle_share") is not None]
+    if timing:  # lockstep misses none: each robot's cycle comes at its time
+        result["ros_missed_cycle_share"] = round(sum(m["missed_cycle_share"] for m in timing) / len(timing), 4)
+        (args.out / "faithfulness.json").write_text(json.dumps(result, indent=2) + "\n")
+        print(f"ROS robots' control cycles missed: {100 * result['ros_missed_cycle_share']:.1f} % (lockstep: none), "
+              f"real-time factor {min(m['real_time_factor'] for m in timing)}-"
+              f"{max(m['real_time_factor'] for m in timing)}")
     print(f"figures: {args.out / 'faithfulness.json'}, {args.out / 'faithfulness.png'}")
     return 0
