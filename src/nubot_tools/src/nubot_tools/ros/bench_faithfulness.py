@@ -1,7 +1,7 @@
 """Benchmark the lockstep engine's faithfulness: the same seeded matches in lockstep and over ROS, compared.
 
     python scripts/bench_faithfulness.py [--seeds 4] [--half-seconds 90] [--out bench/results] [--quick]
-                                         [--skip-ros | --skip-lockstep]
+                                         [--real-time-factor 1] [--skip-ros | --skip-lockstep]
 
 Requires: the shipped teams (nubot against rival, the configured tracker, the 18 x 12 m field); for the ROS
 part the whole stack (``scripts/run_match.py``: roscore, simulator, 20 nodes, referee, rosbag, at real
@@ -100,13 +100,14 @@ def play_lockstep(seed: int, half_seconds: float) -> dict:
             **figures(report, home.prefix)}
 
 
-def play_ros(seed: int, half_seconds: float, folder: Path) -> dict:
+def play_ros(seed: int, half_seconds: float, folder: Path, real_time_factor: float = 1.0) -> dict:
     folder.mkdir(parents=True, exist_ok=True)
     start = time.monotonic()
     perf_file = folder / f"perf-{time.strftime('%Y%m%d-%H%M%S')}.json"
     status = subprocess.run([sys.executable, str(WORKSPACE / "scripts" / "run_match.py"), "--half-seconds",
                              str(half_seconds), "--halves", "2", "--seed", str(seed), "--out", str(folder),
-                             "--perf-json", str(perf_file)], check=False).returncode
+                             "--perf-json", str(perf_file), "--real-time-factor", str(real_time_factor)],
+                            check=False).returncode
     wall = time.monotonic() - start
     matches = sorted(folder.glob("match-*/report.json"), key=lambda p: p.stat().st_mtime)
     if not matches:
@@ -173,13 +174,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--half-seconds", type=float, default=90.0, help="[s of game time]; two halves")
     parser.add_argument("--quick", action="store_true",
                         help=f"{QUICK_SEEDS} seeds of 2 x {QUICK_HALF_SECONDS:g} s (a smoke run)")
+    parser.add_argument("--real-time-factor", type=float, default=1.0,
+                        help="the ROS matches' pace (below 1 on a machine too busy to run them at real time)")
     skip = parser.add_mutually_exclusive_group()
     skip.add_argument("--skip-ros", action="store_true", help="lockstep matches only")
     skip.add_argument("--skip-lockstep", action="store_true", help="ROS matches only")
     args = parser.parse_args(argv)
     seeds, half = (QUICK_SEEDS, QUICK_HALF_SECONDS) if args.quick else (args.seeds, args.half_seconds)
-    if seeds < 1 or not half > 0:
-        parser.error("--seeds must be at least 1 and --half-seconds positive")
+    if seeds < 1 or not half > 0 or not args.real_time_factor > 0:
+        parser.error("--seeds must be at least 1, --half-seconds and --real-time-factor positive")
     args.out.mkdir(parents=True, exist_ok=True)
     lockstep: list[dict] = []
     ros: list[dict] = []
@@ -189,10 +192,11 @@ def main(argv: list[str] | None = None) -> int:
             lockstep.append(play_lockstep(seed, half))
         if not args.skip_ros:
             print(f"[bench] faithfulness: ROS match, seed {seed}, 2 x {half:g} s at real time ...", flush=True)
-            ros.append(play_ros(seed, half, args.out / "faithfulness" / "ros" / f"seed-{seed}"))
+            ros.append(play_ros(seed, half, args.out / "faithfulness" / "ros" / f"seed-{seed}", args.real_time_factor))
     complete = [m for m in ros if m["ended"] != "cut short"]  # a match cut short has other running time
     comparison = compare(lockstep, complete)
     result = {"seeds": list(range(seeds)), "half_seconds": half, "halves": 2, "quick": args.quick,
+              "real_time_factor": args.real_time_factor,
               "confidence": 0.95, "interval": "Student t over the per-match values (nubot_match.statistics)",
               "comparison": comparison, "lockstep_matches": lockstep, "ros_matches": ros,
               "ros_seeds_cut_short": [m["seed"] for m in ros if m["ended"] == "cut short"]}
