@@ -47,9 +47,7 @@ class ObstacleTracker:
     0.3 m/s; a robot speeding up at 4 m/s^2 is followed about 0.03 m behind."""
 
     def __init__(self, gate: float, position_gain: float, velocity_gain: float, coast: float, max_speed: float):
-        if not 0.0 < position_gain <= 1.0 or not 0.0 <= velocity_gain < position_gain:
-            raise ValueError(f"the gains must satisfy 0 <= velocity_gain < position_gain <= 1, got {position_gain} "
-                             f"and {velocity_gain}")
+        """The values as ``WorldModelParams`` (``obstacle_*``) checks them."""
         self.gate, self.position_gain, self.velocity_gain = gate, position_gain, velocity_gain
         self.coast, self.max_speed = coast, max_speed
         self._tracks: list[_Track] = []
@@ -108,7 +106,6 @@ def label_obstacles(me: Pose2D, agent_id: int, own: Sequence[Point], reported: M
     hypot = math.hypot
     mx, my = me.x, me.y
     merged: list[tuple[float, float, int]] = [(p[0], p[1], agent_id) for p in own]
-    moving = {i: v for i, v in enumerate(velocities)}
     for observer in sorted(reported):
         for p in reported[observer]:
             x, y = p[0], p[1]
@@ -128,7 +125,7 @@ def label_obstacles(me: Pose2D, agent_id: int, own: Sequence[Point], reported: M
             if d <= teammate_radius and d < best:
                 mate, best = aid, d
         label = ObstacleLabel.TEAMMATE if mate else ObstacleLabel.OPPONENT
-        vx, vy = moving.get(n, (0.0, 0.0))
+        vx, vy = velocities[n] if n < len(velocities) else (0.0, 0.0)
         labelled.append(LabelledObstacle(x, y, label, mate, observer, me.bearing_to(x, y), me.distance_to(x, y),
                                          vx, vy))
     return tuple(labelled)

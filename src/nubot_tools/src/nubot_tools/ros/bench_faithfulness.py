@@ -191,7 +191,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"[bench] faithfulness: lockstep match, seed {seed}, 2 x {half:g} s ...", flush=True)
             lockstep.append(play_lockstep(seed, half))
         if not args.skip_ros:
-            print(f"[bench] faithfulness: ROS match, seed {seed}, 2 x {half:g} s at real time ...", flush=True)
+            print(f"[bench] faithfulness: ROS match, seed {seed}, 2 x {half:g} s at {args.real_time_factor:g} x real "
+                  "time ...", flush=True)
             ros.append(play_ros(seed, half, args.out / "faithfulness" / "ros" / f"seed-{seed}", args.real_time_factor))
     complete = [m for m in ros if m["ended"] != "cut short"]  # a match cut short has other running time
     comparison = compare(lockstep, complete)
@@ -200,16 +201,16 @@ def main(argv: list[str] | None = None) -> int:
               "confidence": 0.95, "interval": "Student t over the per-match values (nubot_match.statistics)",
               "comparison": comparison, "lockstep_matches": lockstep, "ros_matches": ros,
               "ros_seeds_cut_short": [m["seed"] for m in ros if m["ended"] == "cut short"]}
+    timing = [m for m in complete if m.get("missed_cycle_share") is not None]
+    if timing:  # lockstep misses none: each robot's cycle comes at its time
+        result["ros_missed_cycle_share"] = round(sum(m["missed_cycle_share"] for m in timing) / len(timing), 4)
     (args.out / "faithfulness.json").write_text(json.dumps(result, indent=2) + "\n")
     plot(comparison, args.out / "faithfulness.png",
          f"lockstep ({len(lockstep)}) vs ROS ({len(complete)}) matches of 2 x {half:g} s, mean and 95 % CI")
     for row in comparison.values():
         print(f"{row['description']:<40} lockstep {row['lockstep']['mean']}  ROS {row['ros']['mean']}  "
               f"overlap: {row['intervals_overlap']}")
-    timing = [m for m in complete if m.get("missed_cycle_share") is not None]
-    if timing:  # lockstep misses none: each robot's cycle comes at its time
-        result["ros_missed_cycle_share"] = round(sum(m["missed_cycle_share"] for m in timing) / len(timing), 4)
-        (args.out / "faithfulness.json").write_text(json.dumps(result, indent=2) + "\n")
+    if timing:
         print(f"ROS robots' control cycles missed: {100 * result['ros_missed_cycle_share']:.1f} % (lockstep: none), "
               f"real-time factor {min(m['real_time_factor'] for m in timing)}-"
               f"{max(m['real_time_factor'] for m in timing)}")
