@@ -27,8 +27,12 @@ def run_in_namespace(tag: str, tmp_path, *args: str) -> dict:
 
 
 def test_the_simulated_drive_follows_a_figure_eight_and_odometry_agrees_with_the_truth(tmp_path):
-    # one whole figure eight: 5 s turning each way (make bench drives longer)
-    result = run_in_namespace("figure", tmp_path, "--scenario", "figure", "--seconds", "10")
+    # one whole figure eight: 5 s turning each way (make bench drives longer), the simulator at half the wall
+    # clock's pace: over ROS the drive's encoders lead the simulated robot by the wheel speeds' delivery, which a
+    # loaded machine (this suite beside the unit tests) lengthens; at full pace a loaded run once drifted 0.45 m per
+    # 10 m, and 0.04-0.09 with 0.05 rad of heading beside an evaluation; at half pace 0.01-0.07 and at most 0.04 rad
+    result = run_in_namespace("figure", tmp_path, "--scenario", "figure", "--seconds", "10",
+                              "--real-time-factor", "0.5")
     assert result["travelled"] > 15.0  # 2 m/s for 10 s, less the start
     assert result["drift_per_10m"] < 0.10  # stated bound: 10 cm per 10 m (measured: see make bench)
     assert abs(result["heading_error"]) < 0.05
