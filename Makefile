@@ -15,7 +15,7 @@ VISION ?=
 VIEWER_PORT ?= 8080
 
 .PHONY: setup match demo replay evaluate test unit integration bench soak lint clean
-.PHONY: bench-faithfulness
+.PHONY: bench-faithfulness sanitize
 
 setup:
 	@bash scripts/setup.sh
@@ -73,6 +73,11 @@ bench: setup
 # long, so not in bench): bench/results/faithfulness.{json,png}.
 bench-faithfulness: setup
 	@$(ROS) python scripts/bench_faithfulness.py --seeds $(SEEDS) --half-seconds $(HALF_SECONDS) --out bench/results
+
+# The compiled kernels built with AddressSanitizer and UndefinedBehaviorSanitizer (build/sanitize), and the unit
+# tests of what they compute run on them: scripts/sanitize.sh.
+sanitize: setup
+	@$(ROS) bash scripts/sanitize.sh
 
 # A full-length match (2 x 15 min) with every process's RSS and CPU sampled every 10 s: soak/soak.{json,png}.
 soak: setup

@@ -41,6 +41,28 @@ fi
 site="$(.venv/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')"
 ls -d "$root"/src/*/src > "$site/nubot_ws.pth"
 
+# DAQP's C sources for the MPC's QP solver (nubot_control's kernels), from its pinned PyPI source release: the
+# solver is not packaged by Debian, and this is the release the Python MPC was held to.
+daqp_version=0.11.0
+daqp_sha256=2f27baf18d2acca14186498e651b34e0bed455627e777d3fd8ba655e7e40f920
+daqp_dir=".third_party/daqp-$daqp_version"
+if [ ! -f "$daqp_dir/csrc/src/daqp.c" ]; then
+  log "fetching DAQP $daqp_version's C sources (PyPI source release)"
+  download="$(mktemp -d)"
+  .venv/bin/python -m pip download -q --disable-pip-version-check --no-deps --no-binary :all: \
+    -d "$download" "daqp==$daqp_version"
+  archive="$download/daqp-$daqp_version.tar.gz"
+  if [ "$(sha256sum "$archive" | cut -d' ' -f1)" != "$daqp_sha256" ]; then
+    log "DAQP's source release does not match its pinned sha256: $archive"
+    exit 1
+  fi
+  mkdir -p .third_party
+  tar -xzf "$archive" -C .third_party
+  rm -rf "$download"
+else
+  log "DAQP's C sources present"
+fi
+
 log "catkin_make"
 if ! catkin_make -DPYTHON_EXECUTABLE="$PWD/.venv/bin/python" -DCMAKE_BUILD_TYPE=Release > .catkin_make.log 2>&1; then
   tail -n 40 .catkin_make.log

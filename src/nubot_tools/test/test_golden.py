@@ -1,0 +1,32 @@
+"""Golden traces: a short recording of the MPC's calls in a lockstep match holds what a reproduction needs."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from nubot_control.mpc import LaguerreMpc, MpcParams
+from nubot_tools.golden import main, record_mpc
+
+
+def test_a_recorded_call_gives_its_command_again():
+    trace = record_mpc([0], seconds=2.0, per_status=4)
+    kept = len(trace["status"])
+    assert 4 <= kept <= 4 * len(set(trace["status"]))  # at most 4 of each way the command was found
+    assert trace["ref_positions"].shape == (kept, 21, 2) and trace["command"].shape == (kept, 2)
+    mpc = LaguerreMpc(MpcParams(**json.loads(str(trace["params"]))))
+    limits = [None if math.isnan(v) else float(v) for v in (trace["max_speed"][0], trace["max_accel"][0])]
+    u = mpc.command(trace["position"][0], trace["previous"][0], trace["ref_positions"][0], trace["ref_velocities"][0],
+                    *limits)
+    np.testing.assert_array_equal(u, trace["command"][0])
+    assert mpc.last_status == trace["status"][0]
+
+
+def test_bad_options_are_refused(tmp_path, capsys):
+    for options in (["--seeds", "0"], ["--seconds", "-1"], ["--per-status", "0"]):
+        with pytest.raises(SystemExit) as exit_:
+            main(["mpc", "--out", str(tmp_path / "x.npz"), *options])
+        assert exit_.value.code == 2
+        assert "must be positive" in capsys.readouterr().err
+    assert not (tmp_path / "x.npz").exists()
