@@ -10,8 +10,8 @@ build="$root/build/sanitize"
 kernels="$build/kernels"
 targets=(nubot_control_kernels)
 # The unit tests of what the kernels compute (and of their loader).
-tests=(src/nubot_control/test/unit/test_mpc.py src/nubot_control/test/unit/test_kernels.py
-       src/nubot_control/test/unit/test_motion.py)
+tests=(src/nubot_control/test/unit/test_mpc.py src/nubot_control/test/unit/test_path_planning.py
+       src/nubot_control/test/unit/test_kernels.py src/nubot_control/test/unit/test_motion.py)
 
 echo "[sanitize] building ${targets[*]} with -fsanitize=address,undefined into $kernels"
 if ! catkin_make --build "$build" -DCATKIN_DEVEL_PREFIX="$build/devel" -DNUBOT_SANITIZE=ON \

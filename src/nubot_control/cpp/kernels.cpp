@@ -4,10 +4,13 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
+#include "nubot_control/format.hpp"
 #include "nubot_control/mpc.hpp"
+#include "nubot_control/path_planning.hpp"
 
 namespace py = pybind11;
 using nubot_control::LaguerreMpc;
@@ -52,10 +55,96 @@ void require_finite(const Array& array, const char* name) {
   }
 }
 
+// ``value`` as a point (x, y) of finite floats, else std::invalid_argument naming it as the planner always has.
+nubot_control::Vec2 finite_point(const py::handle& value, const std::string& name) {
+  double xy[2];
+  try {
+    const py::list items(py::reinterpret_borrow<py::object>(value));
+    if (items.size() != 2) throw py::value_error("not two numbers");
+    for (std::size_t i = 0; i < 2; ++i) xy[i] = py::float_(items[i]).cast<double>();
+  } catch (const py::error_already_set&) {
+    throw std::invalid_argument(name + " must be a point (x, y), got " + std::string(py::repr(value)));
+  } catch (const py::value_error&) {
+    throw std::invalid_argument(name + " must be a point (x, y), got " + std::string(py::repr(value)));
+  }
+  if (!(std::isfinite(xy[0]) && std::isfinite(xy[1]))) {
+    throw std::invalid_argument(name + " must be finite, got " + std::string(py::repr(value)));
+  }
+  return {xy[0], xy[1]};
+}
+
+std::vector<nubot_control::Disc> discs(const Array& table) {
+  if (table.ndim() != 2 || (table.shape(0) > 0 && table.shape(1) != 3)) {
+    throw std::invalid_argument("obstacles must be a table of (x, y, radius) rows");
+  }
+  std::vector<nubot_control::Disc> out;
+  for (py::ssize_t i = 0; i < table.shape(0); ++i) {
+    const nubot_control::Disc d{table.at(i, 0), table.at(i, 1), table.at(i, 2)};
+    if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.radius) && d.radius >= 0.0)) {
+      throw std::invalid_argument("obstacle " + std::to_string(i) + " must be finite with a radius not negative, got (" +
+                                  nubot_control::format_float(d.x) + ", " + nubot_control::format_float(d.y) + ", " +
+                                  nubot_control::format_float(d.radius) + ")");
+    }
+    out.push_back(d);
+  }
+  return out;
+}
+
+nubot_control::PlannerParams planner_params(const py::handle& p) {
+  return {p.attr("robot_radius").cast<double>(),      p.attr("safety_margin").cast<double>(),
+          p.attr("max_speed").cast<double>(),         p.attr("max_accel").cast<double>(),
+          p.attr("max_lateral_accel").cast<double>(), p.attr("sample_step").cast<double>(),
+          p.attr("max_subtargets").cast<int>(),       p.attr("detour_factor").cast<double>()};
+}
+
+nubot_control::Bounds bounds_of(const py::handle& b) {
+  return {b.attr("x_min").cast<double>(), b.attr("x_max").cast<double>(), b.attr("y_min").cast<double>(),
+          b.attr("y_max").cast<double>()};
+}
+
+py::list point_list(const std::vector<nubot_control::Vec2>& points) {
+  py::list out;
+  for (const auto& p : points) out.append(py::make_tuple(p.x(), p.y()));
+  return out;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_kernels, m) {
-  m.doc() = "nubot_control's compiled kernels: the Laguerre MPC tracker (see nubot_control.mpc).";
+  m.doc() = "nubot_control's compiled kernels: the Laguerre MPC tracker (nubot_control.mpc) and the path planner "
+            "(nubot_control.path_planning).";
+
+  m.def(
+      "subtargets",
+      [](const py::object& start, const py::object& goal, const Array& obstacles, const py::object& params,
+         const py::object& bounds) {
+        const auto a = finite_point(start, "start"), b = finite_point(goal, "goal");
+        return point_list(nubot_control::subtargets(a, b, discs(obstacles), planner_params(params), bounds_of(bounds)));
+      },
+      py::arg("start"), py::arg("goal"), py::arg("obstacles"), py::arg("params"), py::arg("bounds"),
+      "Via-points between start and goal (see nubot_control.path_planning.subtargets); obstacles: (k, 3) rows.");
+
+  m.def(
+      "plan",
+      [](const py::object& start, const py::object& waypoints, const Array& obstacles, const py::object& params,
+         const py::object& bounds, const py::object& start_velocity, double end_speed) {
+        const auto p0 = finite_point(start, "start");
+        std::vector<nubot_control::Vec2> points;
+        std::size_t i = 0;
+        for (const py::handle w : waypoints) points.push_back(finite_point(w, "waypoints[" + std::to_string(i++) + "]"));
+        if (points.empty()) throw std::invalid_argument("waypoints must not be empty: the last one is the goal");
+        const auto v0 = finite_point(start_velocity, "start_velocity");
+        if (!(std::isfinite(end_speed) && end_speed >= 0.0)) {
+          throw std::invalid_argument("end_speed must be finite and not negative, got " +
+                                      nubot_control::format_float(end_speed));
+        }
+        const auto result = nubot_control::plan(p0, points, discs(obstacles), planner_params(params),
+                                                bounds_of(bounds), v0, end_speed);
+        return py::make_tuple(result.t, result.s, result.xy, result.v, point_list(result.via));
+      },
+      py::arg("start"), py::arg("waypoints"), py::arg("obstacles"), py::arg("params"), py::arg("bounds"),
+      py::arg("start_velocity"), py::arg("end_speed"),
+      "The trajectory's (t, s, xy, v, via) (see nubot_control.path_planning.plan); obstacles: (k, 3) rows.");
 
   m.def("laguerre_basis", &nubot_control::laguerre_basis, py::arg("pole"), py::arg("terms"), py::arg("steps"),
         "Discrete Laguerre functions: row i is L(i)^T, shape (steps, terms).");

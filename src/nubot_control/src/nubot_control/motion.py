@@ -46,7 +46,7 @@ from nubot_control.path_planning import Bounds, Disc, PlannerParams, Trajectory,
 _MAX_DETOURS = 3
 _IN_THE_WAY = 0.3  # a robot is in the way of a velocity whose line passes it closer than min_distance plus this [m]
 # A plan whose remaining path enters an obstacle's clearance by more than this is replaced [m]; the planner
-# itself leaves violations of a few millimetres (path_planning._TOLERANCE), which must not force a replan.
+# itself leaves violations of a few millimetres (kTolerance in cpp/path_planning.cpp), which must not force a replan.
 _INTRUSION_TOLERANCE = 0.01
 
 

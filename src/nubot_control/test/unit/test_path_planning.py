@@ -1,6 +1,8 @@
 """Unit tests of the online path planner: subtargets, cubic B-spline, clearances, bounds and speed profile."""
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -290,3 +292,48 @@ def test_state_at_is_states_at_for_one_time():
         assert one_v.tolist() == pytest.approx(v[i].tolist(), abs=1e-12)
     still = plan((1.0, 1.0), [(1.0, 1.0)], [], P, FIELD)
     assert still.state_at(0.5)[0].tolist() == [1.0, 1.0]
+
+
+GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "plan.npz"
+
+
+def test_the_compiled_planner_gives_the_python_planner_s_trajectories_on_its_golden_trace():
+    """600 calls drawn from the 25,268 the Python implementation made over 3 seeded lockstep matches of 60 s
+    (``python -m nubot_tools.golden plan``), each trajectory kept at every 8th sample and its last: the same number
+    of samples and route, positions to 1e-9 m, velocities to 1e-6 m/s, times to 1e-5 s. The two differ in the order
+    of floating-point sums and in the spline's linear solver (LAPACK's banded LU against Eigen's dense one, both
+    with partial pivoting); measured: positions and routes 2e-13 m, velocities 3e-8 m/s, times 3e-6 s (the latter
+    two where a plan starts from rest: its first speeds are square roots of differences of nearly equal numbers)."""
+    with np.load(GOLDEN) as archive:
+        trace = dict(archive)  # an archive reads an entry anew at each look
+
+    def rows(name, i):
+        offsets = trace[f"{name}_offsets"]
+        return trace[name][offsets[i]:offsets[i + 1]]
+
+    extended = 0
+    for i in range(len(trace["start"])):
+        params = PlannerParams(**json.loads(str(trace["params"][i])))
+        obstacles = [Disc(*row) for row in rows("obstacles", i)]
+        waypoints = [tuple(w) for w in rows("waypoints", i)]
+        tr = plan(tuple(trace["start"][i]), waypoints, obstacles, params, Bounds(*trace["bounds"][i]),
+                  start_velocity=tuple(trace["start_velocity"][i]), end_speed=float(trace["end_speed"][i]))
+        assert len(tr.t) == trace["sample_count"][i], f"call {i}"
+        np.testing.assert_allclose(np.array(tr.via), rows("via", i), rtol=0.0, atol=1e-9, err_msg=f"call {i}")
+        index, expected = rows("sample_index", i).ravel().astype(int), rows("samples", i)
+        np.testing.assert_allclose(tr.t[index], expected[:, 0], rtol=0.0, atol=1e-5, err_msg=f"call {i}")
+        np.testing.assert_allclose(tr.s[index], expected[:, 1], rtol=0.0, atol=1e-9, err_msg=f"call {i}")
+        np.testing.assert_allclose(tr.xy[index], expected[:, 2:4], rtol=0.0, atol=1e-9, err_msg=f"call {i}")
+        np.testing.assert_allclose(tr.v[index], expected[:, 4:6], rtol=0.0, atol=1e-6, err_msg=f"call {i}")
+        extended += len(tr.via) > len(waypoints) + 1
+    assert extended > 50, "the trace must hold routes the planner extended (subtargets, corrections)"
+
+
+@pytest.mark.parametrize("row", [(math.nan, 0.0, 0.26), (1.0, math.inf, 0.26), (1.0, 0.0, -0.1)])
+def test_the_compiled_planner_refuses_an_obstacle_its_python_checks_would_have_refused(row):
+    """Disc checks its fields in Python; the compiled planner checks the table it is given as well."""
+    from nubot_common.kernels import load_kernels
+
+    kernels = load_kernels("nubot_control")
+    with pytest.raises(ValueError, match="obstacle 1 must be finite with a radius not negative"):
+        kernels.plan((0.0, 0.0), [(3.0, 0.0)], np.array([(1.0, 1.0, 0.26), row]), P, FIELD, (0.0, 0.0), 0.0)

@@ -1,6 +1,11 @@
 """Golden traces: what one numeric piece of the robot cycle was given and gave back, recorded over seeded lockstep
 matches, kept as test data so that a new implementation of the piece can be held to the old one's answers.
 
+``python -m nubot_tools.golden plan --out FILE`` does the same for the path planner (``path_planning.plan``, as
+``MotionController`` calls it): ``--calls`` of its calls drawn with the seeded generator, each with its inputs
+(ragged ones flattened, with offsets) and, of the trajectory it gave, the sample count, the route fitted (``via``)
+and every ``--every``-th sample's time, arc length, position and velocity (the last sample always).
+
 ``python -m nubot_tools.golden mpc --out FILE`` plays ``--seeds`` lockstep matches of the default teams (MPC
 tracker) for ``--seconds`` of sim time each and records every ``LaguerreMpc.command`` call: its inputs (position,
 previous command, reference, limits), its command and how it was found (``last_status``). Calls are kept per
@@ -85,20 +90,79 @@ def record_mpc(seeds: list[int], seconds: float, per_status: int) -> dict[str, n
             "status": np.array([statuses[i] for i in kept]), "params": np.array(params.pop())}
 
 
+def _ragged(rows: list[np.ndarray], width: int) -> tuple[np.ndarray, np.ndarray]:
+    """Arrays of differing lengths as one (total, width) array and the offsets where each starts (one more: the end)."""
+    offsets = np.append(0, np.cumsum([len(r) for r in rows])).astype(np.int64)
+    flat = np.concatenate([np.asarray(r, dtype=float).reshape(-1, width) for r in rows]) if rows else \
+        np.zeros((0, width))
+    return flat, offsets
+
+
+def record_plan(seeds: list[int], seconds: float, calls: int, every: int) -> dict[str, np.ndarray]:
+    from nubot_control import motion
+
+    recorded: list[tuple[tuple, dict, Any]] = []
+    original = motion.plan
+
+    def plan(*args: Any, **kwargs: Any) -> Any:
+        result = original(*args, **kwargs)
+        recorded.append((args, kwargs, result))
+        return result
+
+    motion.plan = plan  # the name MotionController calls
+    try:
+        play(seeds, seconds)
+    finally:
+        motion.plan = original
+    rng = np.random.default_rng(0)
+    kept = sorted(int(i) for i in rng.choice(len(recorded), size=min(calls, len(recorded)), replace=False))
+    print(f"golden: {len(recorded)} plans, {len(kept)} kept", file=sys.stderr)
+    out: dict[str, list] = {name: [] for name in ("start", "start_velocity", "end_speed", "bounds", "params")}
+    waypoints, obstacles, via, samples, picked = [], [], [], [], []
+    for i in kept:
+        args, kwargs, trajectory = recorded[i]
+        start, goals, discs, params, bounds = args
+        out["start"].append(start)
+        out["start_velocity"].append(kwargs.get("start_velocity", (0.0, 0.0)))
+        out["end_speed"].append(kwargs.get("end_speed", 0.0))
+        out["bounds"].append((bounds.x_min, bounds.x_max, bounds.y_min, bounds.y_max))
+        out["params"].append(json.dumps(dataclasses.asdict(params), sort_keys=True))
+        waypoints.append(np.array(goals, dtype=float).reshape(-1, 2))
+        obstacles.append(np.array([(d.x, d.y, d.radius) for d in discs], dtype=float).reshape(-1, 3))
+        via.append(np.array(trajectory.via, dtype=float).reshape(-1, 2))
+        n = len(trajectory.t)
+        index: np.ndarray = np.unique(np.append(np.arange(0, n, every), n - 1))
+        picked.append(index)
+        samples.append(np.column_stack((trajectory.t[index], trajectory.s[index], trajectory.xy[index],
+                                        trajectory.v[index])))
+    trace = {name: np.array(values) for name, values in out.items()}
+    for name, rows, width in (("waypoints", waypoints, 2), ("obstacles", obstacles, 3), ("via", via, 2),
+                              ("samples", samples, 6), ("sample_index", picked, 1)):
+        trace[name], trace[f"{name}_offsets"] = _ragged(rows, width)
+    trace["sample_count"] = np.array([len(recorded[i][2].t) for i in kept])
+    return trace
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("mpc",))
+    ap.add_argument("piece", choices=("mpc", "plan"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
-    ap.add_argument("--per-status", type=int, default=500)
+    ap.add_argument("--per-status", type=int, default=500, help="mpc: calls kept of each way a command was found")
+    ap.add_argument("--calls", type=int, default=600, help="plan: calls kept")
+    ap.add_argument("--every", type=int, default=8, help="plan: every n-th sample of a trajectory kept")
     args = ap.parse_args(argv)
-    if args.seeds < 1 or not args.seconds > 0 or args.per_status < 1:
-        ap.error("--seeds, --seconds and --per-status must be positive")
-    trace = record_mpc(list(range(args.seeds)), args.seconds, args.per_status)
+    if args.seeds < 1 or not args.seconds > 0 or args.per_status < 1 or args.calls < 1 or args.every < 1:
+        ap.error("--seeds, --seconds, --per-status, --calls and --every must be positive")
+    seeds = list(range(args.seeds))
+    if args.piece == "mpc":
+        trace = record_mpc(seeds, args.seconds, args.per_status)
+    else:
+        trace = record_plan(seeds, args.seconds, args.calls, args.every)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     np.savez_compressed(args.out, **trace)
-    print(f"golden: {len(trace['status'])} calls written to {args.out}", file=sys.stderr)
+    print(f"golden: {args.piece} trace written to {args.out} ({args.out.stat().st_size // 1024} KiB)", file=sys.stderr)
     return 0
 
 
