@@ -155,6 +155,17 @@ def test_an_attacker_in_the_opponents_goal_area_is_illegal_attack(match):
     assert (call.kind, call.robot, call.rule) == ("illegal_attack", "nubot2", "RC-12.3.10")
 
 
+def test_a_robot_behind_its_own_goal_line_is_outside_the_field_not_in_its_areas(match):
+    """A field robot trapped beside its own goal, behind the goal line, was called for illegal defence at every
+    restart (84 times in one evaluation match): the areas end at the goal line."""
+    match.kickoff_and_play()
+    match.robots = {"nubot4": (-9.74, 1.56), "nubot3": (-9.3, -2.5), "rival1": (8.6, 0.0), "rival2": (0.0, 0.0)}
+    assert match.run(12.0) == []
+    match.robots = {**match.robots, "nubot4": (-9.0, 1.56)}  # on the goal line: in the goal area
+    call, = match.step(0.25).calls
+    assert (call.kind, call.robot, call.rule) == ("illegal_defence", "nubot4", "RC-12.3.10")
+
+
 def test_a_free_kick_from_a_penalty_area_is_taken_from_the_nearest_restart_point():
     assert in_penalty_area(8.0, 1.0, -1, FIELD) and not in_penalty_area(8.0, 1.0, 1, FIELD)
     assert restart_spot(8.0, 1.0, FIELD, 1.0) == pytest.approx((6.0, 3.0))
