@@ -88,6 +88,22 @@ class FieldGeometry:
         y = self.goal_width / 2.0 + self.post_radius
         return (x, -y), (x, y)
 
+    def goal_frame(self, side: int, spacing: float) -> list[tuple[float, float]]:
+        """The goal at +x (side 1) or -x (side -1) as points at most ``spacing`` [m] apart along its footprint:
+        the posts, the side nets back to the back net, and the back net (the centres of the posts' circles, and
+        lines through them): what a robot cannot drive through."""
+        if not spacing > 0.0:
+            raise ValueError(f"spacing must be positive, got {spacing}")
+        (x0, y0), (_, y1) = self.goal_posts(side)
+        back = side * (self.half_length + self.goal_depth + self.post_radius)
+
+        def along(a: tuple[float, float], b: tuple[float, float]) -> list[tuple[float, float]]:
+            pieces = max(1, math.ceil(math.dist(a, b) / spacing))
+            return [(a[0] + (b[0] - a[0]) * i / pieces, a[1] + (b[1] - a[1]) * i / pieces) for i in range(pieces)]
+
+        corners = [(x0, y0), (back, y0), (back, y1), (x0, y1)]
+        return [p for a, b in zip(corners, corners[1:]) for p in along(a, b)] + [corners[-1]]
+
     def is_inside(self, x: float, y: float, margin: float = 0.0) -> bool:
         """True when (x, y) is within the lines grown by ``margin`` on every side."""
         return abs(x) <= self.half_length + margin and abs(y) <= self.half_width + margin

@@ -322,3 +322,30 @@ def test_an_urgent_step_goes_straight_at_full_acceleration_with_either_tracker_a
     assert firsts["mpc"] == pytest.approx((0.0, P.max_accel * DT))
     planned = MotionController(MotionParams(tracker="mpc"), WorldDescription(), DT).command(me, target, [], DT)
     assert planned[1] < firsts["mpc"][1], "the plan's first step is the gentler one"
+
+
+def test_a_robot_beside_its_own_goal_behind_the_line_goes_round_the_goal_not_through_its_net():
+    """A robot behind the goal line beside its own goal (where one stayed trapped against the side net for the rest
+    of a match, its plan running through the net) reaches a target on the goal's other side round the goal. (The
+    baseline tracker heads for its target past robots only: it knows neither posts nor nets.)"""
+    field = WorldDescription().field
+    start, target = Pose2D(-9.74, 1.56, 0.0), Pose2D(-6.4, -1.66, 0.0)
+    path, _ = drive(start, target, [], seconds=10.0)
+    back = field.half_length + field.goal_depth + field.post_radius
+    side = field.goal_width / 2.0 + field.post_radius
+    inside = [p for p in path if field.half_length - ROBOT_RADIUS < -p.x < back + ROBOT_RADIUS
+              and abs(p.y) < side + ROBOT_RADIUS]  # the hull across the side net's line
+    assert not inside, f"through the goal at {inside[0]}"
+    assert math.hypot(path[-1].x - target.x, path[-1].y - target.y) < 0.1
+
+
+def test_the_goal_frame_is_points_along_the_posts_and_nets_closer_than_the_spacing():
+    field = FieldGeometry()
+    for side in (1, -1):
+        frame = field.goal_frame(side, spacing=0.26)
+        assert set(field.goal_posts(side)) <= set(frame)
+        assert max(math.dist(a, b) for a, b in zip(frame, frame[1:])) <= 0.26 + 1e-12
+        assert all(field.half_length < side * x <= field.half_length + field.goal_depth + field.post_radius + 1e-12
+                   for x, _ in frame)
+    with pytest.raises(ValueError, match="spacing must be positive"):
+        field.goal_frame(1, 0.0)
