@@ -28,6 +28,7 @@ from pathlib import Path
 
 from nubot_tools.node_watch import NodeEvent, NodeWatch
 from nubot_tools.processes import Launched, RosMaster, process_table
+from nubot_tools.progress import SimProgress
 from nubot_tools.resources import ResourceLog
 from nubot_tools.workspace import TEAMS, WORKSPACE
 
@@ -249,6 +250,9 @@ class MatchRun:
             print(f"  the match was cut short at sim {_clock(self.watcher.clock)}: {self.ended}", flush=True)
 
 
+STALL_PATIENCE = 120.0  # [s, wall] a match whose sim time stands still this long is cut short
+
+
 def _clock(seconds: float) -> str:
     return f"{int(seconds // 60):02d}:{seconds % 60:04.1f}"
 
@@ -369,7 +373,6 @@ def play(argv: list[str] | None) -> int:
     out = args.out / datetime.now().strftime("match-%Y%m%d-%H%M%S")
     out.mkdir(parents=True, exist_ok=True)
     bag = out / "match.bag"
-    game_seconds = args.half_seconds * args.halves
     print(f"match {configs[0].name} vs {configs[1].name} on the {world.name} field: {args.halves} x "
           f"{args.half_seconds:.0f} s, real_time_factor {args.real_time_factor}, seed {args.seed}"
           f"{f', seeing through their cameras: {vision}' if str(vision) else ''}; folder {out}", flush=True)
@@ -420,7 +423,8 @@ def play(argv: list[str] | None) -> int:
             next_sample = 0.0
             perf_started = False
             wall_start, last_line = time.monotonic(), 0.0
-            limit = 120.0 + 3.0 * game_seconds / max(args.real_time_factor, 0.05)
+            # a match that advances, however slowly (every robot on its camera), plays to full time
+            progress = SimProgress(STALL_PATIENCE)
             while True:
                 s = watcher.state
                 # the referee ends a half in the update that takes its clock to the half's length, so a
@@ -429,8 +433,8 @@ def play(argv: list[str] | None) -> int:
                     break
                 if run.check(simulator=sim, referee=referee):
                     break
-                if time.monotonic() - wall_start > limit:
-                    run.cut_short("the wall-clock limit was reached")
+                if progress.stalled(watcher.clock):
+                    run.cut_short(progress.describe())
                     break
                 if resources is not None and time.monotonic() >= next_sample:
                     next_sample = time.monotonic() + args.resources_period
