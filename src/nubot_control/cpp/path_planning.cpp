@@ -296,37 +296,28 @@ struct Spline {
     return std::upper_bound(knots.data() + kDegree + 1, knots.data() + n, x) - knots.data() - 1;
   }
 
-  // The k + 1 non-zero basis functions' nu-th derivative at x in interval l (de Boor's recursion, then the
-  // derivative steps).
+  // The k + 1 non-zero basis functions' nu-th derivative at x in interval l: de Boor's recursion, its last nu steps
+  // differentiating.
   void basis(double x, Eigen::Index l, int nu, double* h) const {
     double hh[kDegree + 1];
     h[0] = 1.0;
-    for (int j = 1; j <= kDegree - nu; ++j) {
+    for (int j = 1; j <= kDegree; ++j) {
+      const bool derivative = j > kDegree - nu;
       std::copy(h, h + j, hh);
       h[0] = 0.0;
       for (int n = 1; n <= j; ++n) {
         const double xb = knots(l + n), xa = knots(l + n - j);
         if (xb == xa) {
           h[n] = 0.0;
-          continue;
+        } else if (derivative) {
+          const double w = j * hh[n - 1] / (xb - xa);
+          h[n - 1] -= w;
+          h[n] = w;
+        } else {
+          const double w = hh[n - 1] / (xb - xa);
+          h[n - 1] += w * (xb - x);
+          h[n] = w * (x - xa);
         }
-        const double w = hh[n - 1] / (xb - xa);
-        h[n - 1] += w * (xb - x);
-        h[n] = w * (x - xa);
-      }
-    }
-    for (int j = kDegree - nu + 1; j <= kDegree; ++j) {
-      std::copy(h, h + j, hh);
-      h[0] = 0.0;
-      for (int n = 1; n <= j; ++n) {
-        const double xb = knots(l + n), xa = knots(l + n - j);
-        if (xb == xa) {
-          h[n] = 0.0;
-          continue;
-        }
-        const double w = j * hh[n - 1] / (xb - xa);
-        h[n - 1] -= w;
-        h[n] = w;
       }
     }
   }
