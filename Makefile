@@ -88,3 +88,4 @@ lint: setup
 
 clean:
 	rm -rf build devel .catkin_make.log
+	rm -f src/*/src/*/_kernels*.so
