@@ -59,8 +59,9 @@ class RefereeCall:
 
 
 def in_penalty_area(x: float, y: float, attack: int, f: FieldGeometry, own: bool = True) -> bool:
-    """Whether (x, y) lies in the penalty area of the team attacking ``attack`` (its own, or the one it attacks): between
-    the goal line and the area's line, both included (behind the goal line is outside the field, not in the area)."""
+    """Whether (x, y) lies in the penalty area of the team attacking ``attack`` (its own, or the one it attacks):
+    between the goal line and the area's line, both included (behind the goal line is outside the field, not in the
+    area)."""
     towards = -attack if own else attack  # the goal line of that area lies at towards * half_length
     depth = x * towards
     return f.half_length - f.penalty_area_length <= depth <= f.half_length and abs(y) <= f.penalty_area_width / 2.0
