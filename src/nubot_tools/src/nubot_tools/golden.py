@@ -143,23 +143,78 @@ def record_plan(seeds: list[int], seconds: float, calls: int, every: int) -> dic
     return trace
 
 
+def record_obstacles(seeds: list[int], seconds: float, trackers: int) -> dict[str, np.ndarray]:
+    """Every call of ``--trackers`` robots' ``ObstacleTracker`` (drawn with the seeded generator), in order: an
+    update's frame time and percepts (kind 0), an estimate's time and its tracks, positions and velocities (kind 1)."""
+    from world_model.obstacles import ObstacleTracker
+
+    calls: dict[int, list[tuple[int, float, np.ndarray]]] = {}
+    made: list[Any] = []
+    update, estimate = ObstacleTracker.update, ObstacleTracker.estimate
+
+    def recorded_update(self: Any, stamp: float, percepts: Any) -> None:
+        if id(self) not in calls:
+            calls[id(self)] = []
+            made.append(self)  # kept alive: ids stay unique
+        calls[id(self)].append((0, float(stamp), np.array(percepts, dtype=float).reshape(-1, 2)))
+        update(self, stamp, percepts)
+
+    def recorded_estimate(self: Any, t: float) -> Any:
+        result = estimate(self, t)
+        positions, velocities = result
+        calls.setdefault(id(self), []).append(
+            (1, float(t), np.column_stack((np.array(positions, dtype=float).reshape(-1, 2),
+                                           np.array(velocities, dtype=float).reshape(-1, 2)))))
+        return result
+
+    ObstacleTracker.update, ObstacleTracker.estimate = recorded_update, recorded_estimate  # type: ignore[assignment]
+    try:
+        play(seeds, seconds)
+    finally:
+        ObstacleTracker.update, ObstacleTracker.estimate = update, estimate  # type: ignore[assignment]
+    rng = np.random.default_rng(0)
+    chosen = sorted(int(i) for i in rng.choice(len(made), size=min(trackers, len(made)), replace=False))
+    kinds, times, which = [], [], []
+    percepts: list[np.ndarray] = []  # the updates' percepts, in order
+    tracks: list[np.ndarray] = []  # the estimates' tracks (x, y, vx, vy), in order
+    for n, i in enumerate(chosen):
+        estimates = 0
+        for kind, t, data in calls[id(made[i])]:
+            if kind:  # an estimate changes nothing: every fourth is enough to hold a new tracker to
+                estimates += 1
+                if estimates % 4:
+                    continue
+            kinds.append(kind)
+            times.append(t)
+            which.append(n)
+            (tracks if kind else percepts).append(data)
+    print(f"golden: {len(made)} trackers, {len(chosen)} kept, {len(kinds)} calls", file=sys.stderr)
+    trace = {"tracker": np.array(which), "kind": np.array(kinds), "time": np.array(times)}
+    trace["percepts"], trace["percepts_offsets"] = _ragged(percepts, 2)
+    trace["tracks"], trace["tracks_offsets"] = _ragged(tracks, 4)
+    return trace
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("mpc", "plan"))
+    ap.add_argument("piece", choices=("mpc", "plan", "obstacles"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
     ap.add_argument("--per-status", type=int, default=500, help="mpc: calls kept of each way a command was found")
     ap.add_argument("--calls", type=int, default=600, help="plan: calls kept")
     ap.add_argument("--every", type=int, default=8, help="plan: every n-th sample of a trajectory kept")
+    ap.add_argument("--trackers", type=int, default=3, help="obstacles: robots whose tracker is kept")
     args = ap.parse_args(argv)
     if args.seeds < 1 or not args.seconds > 0 or args.per_status < 1 or args.calls < 1 or args.every < 1:
         ap.error("--seeds, --seconds, --per-status, --calls and --every must be positive")
     seeds = list(range(args.seeds))
     if args.piece == "mpc":
         trace = record_mpc(seeds, args.seconds, args.per_status)
-    else:
+    elif args.piece == "plan":
         trace = record_plan(seeds, args.seconds, args.calls, args.every)
+    else:
+        trace = record_obstacles(seeds, args.seconds, args.trackers)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     np.savez_compressed(args.out, **trace)
     print(f"golden: {args.piece} trace written to {args.out} ({args.out.stat().st_size // 1024} KiB)", file=sys.stderr)
