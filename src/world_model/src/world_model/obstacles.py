@@ -5,7 +5,7 @@ report, the valid teammates' own positions (team frame, [m]). Provides:
 ``ObstacleTracker``: own obstacle percepts followed from frame to frame (each percept to the nearest track within a
 gate, nearest pairs first), each track an alpha-beta filter (a constant-velocity Kalman filter in its steady state)
 that smooths the percepts' noise and estimates the robot's velocity; a track no percept continues is kept for a
-short coast, then dropped.
+short coast, then dropped (compiled: ``world_model._kernels``, from ``cpp/obstacles.cpp``).
 ``label_obstacles``: own obstacles first, then teammates' obstacles that are no robot
 already listed (farther than ``merge_radius`` from each) and not this robot itself
 (farther than ``teammate_radius`` from its pose); each obstacle within
@@ -17,24 +17,20 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from nubot_common.geometry import Pose2D
+from nubot_common.kernels import load_kernels
 from nubot_common.team_play import Point
 from nubot_common.world_state import LabelledObstacle, ObstacleLabel
 
-
-@dataclass
-class _Track:
-    x: float  # [m] at ``stamp``
-    y: float
-    vx: float  # [m/s]
-    vy: float
-    stamp: float  # [s] of the last percept
-    n: int = 1  # percepts taken
+if TYPE_CHECKING:
+    from world_model import _kernels  # its interface: _kernels.pyi
+else:
+    _kernels = load_kernels("world_model")
 
 
-class ObstacleTracker:
+class ObstacleTracker(_kernels.ObstacleTracker):
     """Own obstacle percepts of successive frames, followed as tracks: ``update`` with each frame, ``estimate`` to read.
 
     A percept continues the nearest track predicted to its frame's time within ``gate`` [m] (the closest pairs
@@ -44,56 +40,12 @@ class ObstacleTracker:
     percept no track takes starts one at rest. A track no percept continues is kept ``coast`` [s] after its last
     percept (a robot hidden for a frame or two), then dropped. With percepts 0.05 m from the truth (per axis) at 30
     frames a second, the gains 0.4 and 0.1 leave about 0.6 of the percepts' error and a velocity within about
-    0.3 m/s; a robot speeding up at 4 m/s^2 is followed about 0.03 m behind."""
+    0.3 m/s; a robot speeding up at 4 m/s^2 is followed about 0.03 m behind.
 
-    def __init__(self, gate: float, position_gain: float, velocity_gain: float, coast: float, max_speed: float):
-        """The values as ``WorldModelParams`` (``obstacle_*``) checks them."""
-        self.gate, self.position_gain, self.velocity_gain = gate, position_gain, velocity_gain
-        self.coast, self.max_speed = coast, max_speed
-        self._tracks: list[_Track] = []
-        self._stamp = -math.inf
-
-    def reset(self) -> None:
-        self._tracks = []
-        self._stamp = -math.inf
-
-    def update(self, stamp: float, percepts: Sequence[Point]) -> None:
-        """The obstacles of the frame taken at ``stamp`` [s]; a frame not newer than the last is ignored."""
-        if not stamp > self._stamp:
-            return
-        self._stamp = stamp
-        tracks = [k for k in self._tracks if stamp - k.stamp <= self.coast]
-        hypot = math.hypot
-        predicted = [(k.x + k.vx * (stamp - k.stamp), k.y + k.vy * (stamp - k.stamp)) for k in tracks]
-        pairs = sorted((d, i, j) for i, (px, py) in enumerate(predicted) for j, z in enumerate(percepts)
-                       if (d := hypot(z[0] - px, z[1] - py)) <= self.gate)
-        taken_tracks: set[int] = set()
-        taken: set[int] = set()
-        for _, i, j in pairs:
-            if i in taken_tracks or j in taken:
-                continue
-            taken_tracks.add(i)
-            taken.add(j)
-            k, (px, py), z = tracks[i], predicted[i], percepts[j]
-            dt = stamp - k.stamp
-            k.n += 1  # a young track weighs its few percepts as a straight-line fit would, then the steady gains
-            a = max(self.position_gain, 2.0 * (2 * k.n - 1) / (k.n * (k.n + 1)))
-            b = max(self.velocity_gain, 6.0 / (k.n * (k.n + 1)))
-            rx, ry = z[0] - px, z[1] - py
-            vx, vy = k.vx + b * rx / dt, k.vy + b * ry / dt
-            speed = hypot(vx, vy)
-            if speed > self.max_speed:
-                vx, vy = vx * self.max_speed / speed, vy * self.max_speed / speed
-            k.x, k.y, k.vx, k.vy, k.stamp = px + a * rx, py + a * ry, vx, vy, stamp
-        tracks.extend(_Track(z[0], z[1], 0.0, 0.0, stamp) for j, z in enumerate(percepts) if j not in taken)
-        self._tracks = tracks
-
-    def estimate(self, t: float) -> tuple[tuple[Point, ...], tuple[Point, ...]]:
-        """The tracks of the last ``coast`` [s] before the latest frame, moved on to ``t`` [s]: (positions
-        [m], velocities [m/s]), in the same order."""
-        tracks = [k for k in self._tracks if self._stamp - k.stamp <= self.coast]
-        return (tuple((k.x + k.vx * (t - k.stamp), k.y + k.vy * (t - k.stamp)) for k in tracks),
-                tuple((k.vx, k.vy) for k in tracks))
+    ``ObstacleTracker(gate, position_gain, velocity_gain, coast, max_speed)``, the values as ``WorldModelParams``
+    (``obstacle_*``) checks them; ``update(stamp, percepts)``: the obstacles of the frame taken at ``stamp`` [s] (a
+    frame not newer than the last is ignored); ``estimate(t)``: the tracks of the last ``coast`` [s] before the
+    latest frame, moved on to ``t`` [s], as (positions [m], velocities [m/s]) in the same order; ``reset()``."""
 
 
 def label_obstacles(me: Pose2D, agent_id: int, own: Sequence[Point], reported: Mapping[int, Sequence[Point]],
