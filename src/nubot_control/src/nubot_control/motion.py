@@ -153,8 +153,8 @@ class MotionController:
                              -field.half_width - margin, field.half_width + margin)
         # The goals as obstacles: posts and nets, points closer than a robot can pass between (a robot beside or
         # behind a goal must go round it, not plan through its side net)
-        self.goal_frames = [Disc(x, y, field.post_radius) for side in (1, -1)
-                      for x, y in field.goal_frame(side, spacing=self.robot_radius)]
+        self.goal_table = [(x, y, field.post_radius) for side in (1, -1)
+                           for x, y in field.goal_frame(side, spacing=self.robot_radius)]  # (x, y, radius) [m]
         self.mpc = LaguerreMpc(MpcParams(dt=dt, max_speed=params.max_speed, max_accel=params.max_accel)) \
             if params.tracker == "mpc" else None
         self.trajectory: Trajectory | None = None  # the plan being tracked (mpc), its time 0 is the last cycle
@@ -244,7 +244,7 @@ class MotionController:
     def _obstacle_table(self, me: Pose2D, obstacles: Sequence[tuple[float, ...]]) -> list[tuple[float, float, float]]:
         """The goals (posts and nets) and obstacles within planning_range as (x, y, radius) [m], the goals first."""
         p = self.params
-        table = [(d.x, d.y, d.radius) for d in self.goal_frames]
+        table = list(self.goal_table)
         for o in obstacles:
             if len(o) > 2:  # keep the centre o[2] away: a disc that gives that clearance
                 table.append((o[0], o[1], max(0.0, o[2] - self.robot_radius - p.clearance)))
