@@ -49,7 +49,9 @@ daqp_dir=".third_party/daqp-$daqp_version"
 if [ ! -f "$daqp_dir/csrc/src/daqp.c" ]; then
   log "fetching DAQP $daqp_version's C sources (PyPI source release)"
   download="$(mktemp -d)"
-  .venv/bin/python -m pip download -q --disable-pip-version-check --no-deps --no-binary :all: \
+  # --no-binary daqp, not :all:, which would build pip's metadata step's own tools (setuptools, Cython) from
+  # source too: minutes instead of seconds
+  .venv/bin/python -m pip download -q --disable-pip-version-check --no-deps --no-binary daqp \
     -d "$download" "daqp==$daqp_version"
   archive="$download/daqp-$daqp_version.tar.gz"
   if [ "$(sha256sum "$archive" | cut -d' ' -f1)" != "$daqp_sha256" ]; then
