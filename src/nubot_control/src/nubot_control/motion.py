@@ -48,6 +48,7 @@ _IN_THE_WAY = 0.3  # a robot is in the way of a velocity whose line passes it cl
 # A plan whose remaining path enters an obstacle's clearance by more than this is replaced [m]; the planner
 # itself leaves violations of a few millimetres (kTolerance in cpp/path_planning.cpp), which must not force a replan.
 _INTRUSION_TOLERANCE = 0.01
+_ACCEL_ROUNDING = 1e-9  # a plan's acceleration may exceed the limit it was made under by this share (rounding)
 
 
 def _segment_distance(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
@@ -336,7 +337,9 @@ class MotionController:
         if len(t) < 2:
             return True
         dv = np.diff(v, axis=0)
-        return bool((np.einsum("ij,ij->i", dv, dv) <= (accel * np.diff(t)) ** 2).all())
+        # a plan at the limit itself (plan_share 1) reaches it to within rounding: that is within it
+        reach = accel * (1.0 + _ACCEL_ROUNDING) * np.diff(t)
+        return bool((np.einsum("ij,ij->i", dv, dv) <= reach * reach).all())
 
     @staticmethod
     def _ahead(start: tuple[float, float], velocity: tuple[float, float],

@@ -141,6 +141,17 @@ def test_a_plan_that_holds_is_kept_and_renewed_after_keep_plan_time():
     assert 1 <= renewals <= 40 * DT / P.keep_plan_time + 1, "kept, and replanned only as it grows old"
 
 
+def test_a_plan_made_at_the_limits_themselves_is_kept():
+    """plan_share 1: the plan's acceleration is the limit to within rounding, which is within it (the robot may
+    follow it), so it is kept while the robot stays near it instead of being replaced every cycle."""
+    ctl = MotionController(MotionParams(plan_share=1.0, keep_plan_deviation=0.5), WorldDescription(), DT)
+    pose, plans = Pose2D(0.0, 0.0, 0.0), []
+    for _ in range(10):
+        pose = _step(ctl, pose, Pose2D(6.0, 0.0, 0.0))
+        plans.append(id(ctl.trajectory))
+    assert len(set(plans)) == 1
+
+
 def test_keep_plan_time_zero_replans_every_cycle():
     ctl, pose = _settled(keep_plan_time=0.0)
     plans = []
