@@ -126,3 +126,19 @@ def test_resample_leaves_out_times_a_track_does_not_cover():
     assert xy.shape == (5, 1, 2)
     assert np.isnan(xy[[0, 4], 0]).all()
     assert xy[1:4, 0].tolist() == [[0.0, 0.0], [0.5, 1.0], [1.0, 2.0]]
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 60, 100_000])
+def test_a_long_match_compared_piece_by_piece_gives_the_same_collisions_and_ball_reaches(monkeypatch, chunk):
+    """A whole match is compared a piece of samples at a time (its pairwise arrays would not fit in memory at
+    once): a contact that spans two pieces is one collision, and where the pieces fall changes nothing."""
+    band = ma.Track("rival1", T, np.column_stack([0.55 + 0.05 * np.sin(2 * np.pi * T), np.zeros(len(T))]))
+    beyond = ma.Track("rival2", T, np.column_stack([-0.6 - 0.1 * np.sin(2 * np.pi * T), np.zeros(len(T))]))
+    ball = along_x("football", [(0, 3.0), (4, 3.0), (6, 0.8)], y=1.5)
+    mover = along_x("nubot2", [(0, -4.0), (5, 2.5)], y=1.5)
+    whole = summary(still("nubot1", 0.0), band, beyond, ball, mover)
+    monkeypatch.setattr(ma, "_CHUNK", chunk)
+    pieces = summary(still("nubot1", 0.0), band, beyond, ball, mover)
+    assert [(c.t, c.robots) for c in pieces.collisions] == [(c.t, c.robots) for c in whole.collisions]
+    assert len(whole.collisions) == 1 + 10  # rival1 never separates, rival2 once per period
+    assert pieces.ball_reaches == whole.ball_reaches and len(whole.ball_reaches) == 1

@@ -8,6 +8,7 @@ and ``MatchEvents`` (every event as one plain tuple: what the determinism test c
 
 from __future__ import annotations
 
+from array import array
 from typing import Any
 
 import numpy as np
@@ -61,12 +62,16 @@ class MatchListener:
 
 
 class MatchLogRecorder(MatchListener):
-    """Builds a ``match_analysis.MatchLog`` directly, without a bag."""
+    """Builds a ``match_analysis.MatchLog`` directly, without a bag.
+
+    The model states (every model at 100 Hz: most of what a match leaves) are kept as packed machine numbers, 20
+    bytes a model and sample instead of about 100 as Python numbers in lists: a 2 x 15 min match's tracks take about
+    60 MiB instead of 300."""
 
     def __init__(self) -> None:
         self.log = ma.MatchLog()
-        self._times: list[float] = []
-        self._positions: dict[str, tuple[list[int], list[float], list[float]]] = {}
+        self._times = array("d")  # [s]
+        self._positions: dict[str, tuple[array, array, array]] = {}  # per model: sample indices, x, y [m]
         self._goalie_cycles: dict[str, int] = {}  # control cycles each robot announced itself goalie
 
     def start(self, world: WorldDescription, t: float) -> None:
@@ -76,7 +81,7 @@ class MatchLogRecorder(MatchListener):
         index = len(self._times)
         self._times.append(t)
         for name, s in states:
-            indices, xs, ys = self._positions.setdefault(name, ([], [], []))
+            indices, xs, ys = self._positions.setdefault(name, (array("i"), array("d"), array("d")))
             indices.append(index)
             xs.append(s.x)
             ys.append(s.y)
@@ -108,13 +113,14 @@ class MatchLogRecorder(MatchListener):
 
     def finish(self) -> ma.MatchLog:
         """The log so far, with its tracks built (call once the match is over)."""
-        times = np.asarray(self._times, dtype=float)
+        times = np.array(self._times, dtype=float)
         log = self.log
         for name, (indices, xs, ys) in self._positions.items():
-            log.tracks[name] = ma.Track(name, times[np.asarray(indices, dtype=int)], np.column_stack([xs, ys]))
+            log.tracks[name] = ma.Track(name, times[np.array(indices, dtype=np.intp)],
+                                        np.column_stack([np.array(xs, dtype=float), np.array(ys, dtype=float)]))
         log.goalies = ma.goalies_by_role(self._goalie_cycles)
         records: list[Any] = [*log.goals, *log.kicks, *log.touches, *log.referee, *log.coach, *log.calls]
-        seen = [*self._times, *(r.t for r in records)]
+        seen = [*((float(times.min()), float(times.max())) if len(times) else ()), *(r.t for r in records)]
         log.start, log.end = (float(min(seen)), float(max(seen))) if seen else (0.0, 0.0)
         return log
 

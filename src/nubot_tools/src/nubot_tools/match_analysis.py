@@ -640,6 +640,9 @@ def distance_run(track: Track, teleport_step: float = 1.0) -> float:
     return float(steps[steps <= teleport_step].sum())
 
 
+_CHUNK = 8192  # samples compared at a time: the pairwise arrays of a whole match would take hundreds of MiB
+
+
 def resample(tracks: Sequence[Track], t: np.ndarray) -> np.ndarray:
     """Return the positions (len(t), len(tracks), 2) [m] interpolated at times t; NaN where a track does not
     cover the time (before its first or after its last sample)."""
@@ -670,16 +673,38 @@ def collisions(tracks: dict[str, Track], intervals: Sequence[tuple[float, float]
     if len(robots) < 2 or not intervals:
         return []
     t = np.unique(np.concatenate([tracks[r].t for r in robots]))
-    xy = resample([tracks[r] for r in robots], t)
+    running = interval_index(t, intervals) >= 0
     first, second = np.triu_indices(len(robots), k=1)
-    x, y = (np.ascontiguousarray(xy[..., axis]) for axis in (0, 1))  # (samples, robots) each
-    distance = np.hypot(x[:, first] - x[:, second], y[:, first] - y[:, second])  # (samples, pairs), NaN: not covered
-    contact = _latch(distance < 2 * hull_radius + contact_tolerance, distance > 2 * hull_radius + separation_margin)
-    onset = contact.copy()
-    onset[1:] &= ~contact[:-1]
-    onset &= (interval_index(t, intervals) >= 0)[:, None]
-    samples, pairs = np.nonzero(onset)  # row-major: in time order
-    return [Collision(float(t[i]), (robots[first[p]], robots[second[p]])) for i, p in zip(samples, pairs)]
+    found: list[Collision] = []
+    before = np.zeros(len(first), dtype=bool)  # each pair's contact at the sample before the chunk
+    for start in range(0, len(t), _CHUNK):  # a 2 x 15 min match: 45 pairs x 240,000 samples, in pieces
+        part = t[start:start + _CHUNK]
+        xy = resample([tracks[r] for r in robots], part)
+        x, y = (np.ascontiguousarray(xy[..., axis]) for axis in (0, 1))  # (samples, robots) each
+        distance = np.hypot(x[:, first] - x[:, second], y[:, first] - y[:, second])  # (samples, pairs); NaN: uncovered
+        # the sample before the chunk leads, as the state the latch carries in (none before the first: apart)
+        contact = _latch(np.vstack([before, distance < 2 * hull_radius + contact_tolerance]),
+                         np.vstack([~before, distance > 2 * hull_radius + separation_margin]))
+        onset = contact[1:] & ~contact[:-1] & running[start:start + _CHUNK, None]
+        samples, pairs = np.nonzero(onset)  # row-major: in time order
+        found += [Collision(float(part[i]), (robots[first[p]], robots[second[p]])) for i, p in zip(samples, pairs)]
+        before = contact[-1]
+    return found
+
+
+def nearest_robot(tracks: Sequence[Track], t: np.ndarray, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Return, at each time of ``t``, which of ``tracks`` is nearest to the point ``xy`` (len(t), 2) [m] and how far
+    it is (inf where no track covers the time)."""
+    nearest = np.zeros(len(t), dtype=int)
+    nearest_distance = np.full(len(t), np.inf)
+    for start in range(0, len(t), _CHUNK):
+        end = start + _CHUNK
+        gap = resample(tracks, t[start:end]) - xy[start:end, None, :]
+        distance = np.hypot(gap[..., 0], gap[..., 1])  # (samples, robots)
+        distance[np.isnan(distance)] = np.inf  # robots not covered are left out
+        nearest[start:end] = distance.argmin(axis=1)
+        nearest_distance[start:end] = distance[np.arange(len(distance)), nearest[start:end]]
+    return nearest, nearest_distance
 
 
 def ball_reaches(tracks: dict[str, Track], intervals: Sequence[tuple[float, float]], free_distance: float = 1.0,
@@ -692,11 +717,7 @@ def ball_reaches(tracks: dict[str, Track], intervals: Sequence[tuple[float, floa
     robots = sorted(n for n, track in tracks.items() if is_robot_name(n) and len(track.t))
     if ball is None or len(ball.t) == 0 or not robots or not intervals:
         return [], 0
-    gap = resample([tracks[r] for r in robots], ball.t) - ball.xy[:, None, :]
-    distance = np.hypot(gap[..., 0], gap[..., 1])  # (samples, robots)
-    distance[np.isnan(distance)] = np.inf  # robots not covered are left out
-    nearest = distance.argmin(axis=1)
-    nearest_distance = distance[np.arange(len(ball.t)), nearest]
+    nearest, nearest_distance = nearest_robot([tracks[r] for r in robots], ball.t, ball.xy)
     interval = interval_index(ball.t, intervals)
     running = interval >= 0
     free = np.flatnonzero(running & np.isfinite(nearest_distance) & (nearest_distance > free_distance))
