@@ -12,6 +12,7 @@ namespace (``/rival/receive_from_coach``).
 
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass
 
@@ -83,6 +84,11 @@ def is_robot_name(name: str) -> bool:
 
 def team_of(name: str) -> str:
     """The team of a robot's model name (``nubot3`` -> ``nubot``); any other name is returned unchanged."""
+    return _team_of(name) if isinstance(name, str) else name
+
+
+@functools.lru_cache(maxsize=256)
+def _team_of(name: str) -> str:  # asked for every robot pair at every referee tick: the names are few
     return parse_robot_name(name).team if is_robot_name(name) else name
 
 
