@@ -6,6 +6,9 @@ matches, kept as test data so that a new implementation of the piece can be held
 (ragged ones flattened, with offsets) and, of the trajectory it gave, the sample count, the route fitted (``via``)
 and every ``--every``-th sample's time, arc length, position and velocity (the last sample always).
 
+``python -m nubot_tools.golden labels --out FILE`` records ``--calls`` of the world models' ``label_obstacles`` calls
+(their inputs and the labelled obstacles they gave).
+
 ``python -m nubot_tools.golden mpc --out FILE`` plays ``--seeds`` lockstep matches of the default teams (MPC
 tracker) for ``--seconds`` of sim time each and records every ``LaguerreMpc.command`` call: its inputs (position,
 previous command, reference, limits), its command and how it was found (``last_status``). Calls are kept per
@@ -195,14 +198,59 @@ def record_obstacles(seeds: list[int], seconds: float, trackers: int) -> dict[st
     return trace
 
 
+def record_labels(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
+    """``--calls`` of the world models' ``label_obstacles`` calls (drawn with the seeded generator): this robot's pose
+    and AgentID, its own obstacles and their velocities, the teammates' reported obstacles (observer, x, y) and
+    positions (AgentID, x, y), the two radii, and the labelled obstacles it gave (x, y, teammate or not, the teammate,
+    observer, angle, radius, vx, vy)."""
+    from nubot_common.world_state import ObstacleLabel
+    from world_model import world_model
+
+    recorded: list[tuple[tuple, Any]] = []
+    original = world_model.label_obstacles
+
+    def label_obstacles(*args: Any) -> Any:
+        result = original(*args)
+        recorded.append((args, result))
+        return result
+
+    world_model.label_obstacles = label_obstacles  # type: ignore[assignment]  # the name WorldModel.snapshot calls
+    try:
+        play(seeds, seconds)
+    finally:
+        world_model.label_obstacles = original
+    rng = np.random.default_rng(0)
+    kept = sorted(int(i) for i in rng.choice(len(recorded), size=min(calls, len(recorded)), replace=False))
+    print(f"golden: {len(recorded)} labellings, {len(kept)} kept", file=sys.stderr)
+    me, agent, radii = [], [], []
+    own, velocities, reported, mates, labelled = [], [], [], [], []
+    for i in kept:
+        (pose, agent_id, own_points, by_observer, mate_points, teammate_radius, merge_radius, speeds), result = \
+            recorded[i]
+        me.append((pose.x, pose.y, pose.theta))
+        agent.append(agent_id)
+        radii.append((teammate_radius, merge_radius))
+        own.append(np.array(own_points, dtype=float).reshape(-1, 2))
+        velocities.append(np.array(speeds, dtype=float).reshape(-1, 2))
+        reported.append(np.array([(o, *p) for o in by_observer for p in by_observer[o]], dtype=float).reshape(-1, 3))
+        mates.append(np.array([(a, *p) for a, p in mate_points.items()], dtype=float).reshape(-1, 3))
+        labelled.append(np.array([(o.x, o.y, o.label is ObstacleLabel.TEAMMATE, o.teammate_id, o.observer_id, o.angle,
+                                   o.radius, o.vx, o.vy) for o in result], dtype=float).reshape(-1, 9))
+    trace = {"me": np.array(me), "agent_id": np.array(agent), "radii": np.array(radii)}
+    for name, rows, width in (("own", own, 2), ("velocities", velocities, 2), ("reported", reported, 3),
+                              ("mates", mates, 3), ("labelled", labelled, 9)):
+        trace[name], trace[f"{name}_offsets"] = _ragged(rows, width)
+    return trace
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("mpc", "plan", "obstacles"))
+    ap.add_argument("piece", choices=("mpc", "plan", "obstacles", "labels"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
     ap.add_argument("--per-status", type=int, default=500, help="mpc: calls kept of each way a command was found")
-    ap.add_argument("--calls", type=int, default=600, help="plan: calls kept")
+    ap.add_argument("--calls", type=int, default=600, help="plan, labels: calls kept")
     ap.add_argument("--every", type=int, default=8, help="plan: every n-th sample of a trajectory kept")
     ap.add_argument("--trackers", type=int, default=3, help="obstacles: robots whose tracker is kept")
     args = ap.parse_args(argv)
@@ -213,6 +261,8 @@ def main(argv: list[str] | None = None) -> int:
         trace = record_mpc(seeds, args.seconds, args.per_status)
     elif args.piece == "plan":
         trace = record_plan(seeds, args.seconds, args.calls, args.every)
+    elif args.piece == "labels":
+        trace = record_labels(seeds, args.seconds, args.calls)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
     args.out.parent.mkdir(parents=True, exist_ok=True)
