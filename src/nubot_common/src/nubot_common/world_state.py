@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from enum import Enum, IntEnum
+from typing import NamedTuple
 
 from nubot_common.ball_flight import GRAVITY, landing
 from nubot_common.geometry import Pose2D
@@ -106,8 +107,10 @@ class Teammate:
         return self.report.role if self.report is not None else Role.NOROLE
 
 
-@dataclass(frozen=True)
-class LabelledObstacle:
+class LabelledObstacle(NamedTuple):
+    """An obstacle of the fused world model (a record built by the dozen every cycle: a named tuple, which is made
+    several times faster than a frozen dataclass)."""
+
     x: float  # [m]
     y: float  # [m]
     label: ObstacleLabel

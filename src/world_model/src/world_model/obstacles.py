@@ -10,12 +10,11 @@ short coast, then dropped (compiled: ``world_model._kernels``, from ``cpp/obstac
 already listed (farther than ``merge_radius`` from each) and not this robot itself
 (farther than ``teammate_radius`` from its pose); each obstacle within
 ``teammate_radius`` of a valid teammate's reported position is that teammate (the
-nearest such), every other one an opponent.
+nearest such), every other one an opponent (compiled: ``world_model._kernels``, from ``cpp/labels.cpp``).
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
@@ -52,32 +51,12 @@ def label_obstacles(me: Pose2D, agent_id: int, own: Sequence[Point], reported: M
                     mates: Mapping[int, Point], teammate_radius: float, merge_radius: float,
                     velocities: Sequence[Point] = ()) -> tuple[LabelledObstacle, ...]:
     """Merge and label obstacles; ``reported`` and ``mates`` are keyed by the teammates' AgentIDs; ``velocities``
-    are those of ``own`` (at rest where missing; teammates' obstacles come without one)."""
-    # Plain loops that stop at the first match: run every cycle on a few dozen points, where numpy's
-    # per-call overhead and generator expressions cost more than the arithmetic.
-    hypot = math.hypot
-    mx, my = me.x, me.y
-    merged: list[tuple[float, float, int]] = [(p[0], p[1], agent_id) for p in own]
-    for observer in sorted(reported):
-        for p in reported[observer]:
-            x, y = p[0], p[1]
-            if hypot(x - mx, y - my) <= teammate_radius:
-                continue  # the teammate sees this robot
-            for qx, qy, _ in merged:
-                if hypot(x - qx, y - qy) <= merge_radius:
-                    break
-            else:
-                merged.append((x, y, observer))
-    others = sorted((aid, q[0], q[1]) for aid, q in mates.items() if aid != agent_id)
-    labelled = []
-    for n, (x, y, observer) in enumerate(merged):
-        mate, best = 0, math.inf
-        for aid, qx, qy in others:  # by AgentID: the lower one wins a tie
-            d = hypot(x - qx, y - qy)
-            if d <= teammate_radius and d < best:
-                mate, best = aid, d
-        label = ObstacleLabel.TEAMMATE if mate else ObstacleLabel.OPPONENT
-        vx, vy = velocities[n] if n < len(velocities) else (0.0, 0.0)
-        labelled.append(LabelledObstacle(x, y, label, mate, observer, me.bearing_to(x, y), me.distance_to(x, y),
-                                         vx, vy))
-    return tuple(labelled)
+    are those of ``own`` (at rest where missing; teammates' obstacles come without one). Compiled
+    (``world_model._kernels``, from ``cpp/labels.cpp``)."""
+    rows = _kernels.label_obstacles(me.x, me.y, me.theta, agent_id, own,
+                                    [(observer, p[0], p[1]) for observer, points in reported.items() for p in points],
+                                    [(aid, q[0], q[1]) for aid, q in mates.items()], teammate_radius, merge_radius)
+    teammate, opponent, still = ObstacleLabel.TEAMMATE, ObstacleLabel.OPPONENT, (0.0, 0.0)
+    return tuple(LabelledObstacle(x, y, teammate if mate else opponent, mate, observer, angle, radius,
+                                  *(velocities[n] if n < len(velocities) else still))
+                 for n, (x, y, observer, mate, angle, radius) in enumerate(rows))
