@@ -66,6 +66,8 @@ else
 fi
 
 log "catkin_make"
+# The messages are generated for Python and C++ (the original's C++ nodes), not for Lisp, which nothing here uses
+export ROS_LANG_DISABLE=genlisp
 if ! catkin_make -DPYTHON_EXECUTABLE="$PWD/.venv/bin/python" -DCMAKE_BUILD_TYPE=Release > .catkin_make.log 2>&1; then
   tail -n 40 .catkin_make.log
   log "catkin_make failed (full log: .catkin_make.log)"
