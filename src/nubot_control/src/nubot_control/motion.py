@@ -317,8 +317,8 @@ class MotionController:
             ref, ref_v = self.trajectory.state_at(self._plan_age)  # where the last plan has the robot now
             if math.dist(ref, (me.x, me.y)) < p.replan_tolerance:  # on track: replan from there, smoothly
                 start, start_velocity = (float(ref[0]), float(ref[1])), (float(ref_v[0]), float(ref_v[1]))
-                if len(goals) == len(self._given):  # the same route: keep only the waypoints still ahead
-                    goals = self._ahead(start, start_velocity, self._waypoints[:-1]) + [goals[-1]]
+            if len(goals) == len(self._given):  # the same route, on track or not: the waypoints still ahead
+                goals = self._ahead(start, start_velocity, self._waypoints[:-1]) + [goals[-1]]
         self._given, self._waypoints = given, goals
         planner = PlannerParams(robot_radius=self.robot_radius, safety_margin=p.clearance,
                                 max_speed=limit * p.plan_share, max_accel=accel * p.plan_share,
