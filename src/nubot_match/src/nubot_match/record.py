@@ -115,9 +115,12 @@ class MatchLogRecorder(MatchListener):
         """The log so far, with its tracks built (call once the match is over)."""
         times = np.array(self._times, dtype=float)
         log = self.log
-        for name, (indices, xs, ys) in self._positions.items():
-            log.tracks[name] = ma.Track(name, times[np.array(indices, dtype=np.intp)],
-                                        np.column_stack([np.array(xs, dtype=float), np.array(ys, dtype=float)]))
+        for name in list(self._positions):  # each model's numbers let go once its track is built
+            indices, xs, ys = self._positions.pop(name)
+            xy = np.empty((len(xs), 2))
+            xy[:, 0], xy[:, 1] = np.frombuffer(xs), np.frombuffer(ys)
+            log.tracks[name] = ma.Track(name, times[np.frombuffer(indices, dtype=np.intc)], xy)
+            del indices, xs, ys
         log.goalies = ma.goalies_by_role(self._goalie_cycles)
         records: list[Any] = [*log.goals, *log.kicks, *log.touches, *log.referee, *log.coach, *log.calls]
         seen = [*((float(times.min()), float(times.max())) if len(times) else ()), *(r.t for r in records)]
