@@ -101,24 +101,32 @@ def _ragged(rows: list[np.ndarray], width: int) -> tuple[np.ndarray, np.ndarray]
     return flat, offsets
 
 
-def record_plan(seeds: list[int], seconds: float, calls: int, every: int) -> dict[str, np.ndarray]:
-    from nubot_control import motion
-
+def record_calls(module: Any, name: str, seeds: list[int], seconds: float,
+                 calls: int) -> tuple[list[tuple[tuple, dict, Any]], list[int]]:
+    """Every call of the function ``module.name`` during the matches, as (args, kwargs, result), and which
+    ``calls`` of them to keep (drawn with the seeded generator, in order)."""
     recorded: list[tuple[tuple, dict, Any]] = []
-    original = motion.plan
+    original = getattr(module, name)
 
-    def plan(*args: Any, **kwargs: Any) -> Any:
+    def recording(*args: Any, **kwargs: Any) -> Any:
         result = original(*args, **kwargs)
         recorded.append((args, kwargs, result))
         return result
 
-    motion.plan = plan  # the name MotionController calls
+    setattr(module, name, recording)
     try:
         play(seeds, seconds)
     finally:
-        motion.plan = original
+        setattr(module, name, original)
     rng = np.random.default_rng(0)
     kept = sorted(int(i) for i in rng.choice(len(recorded), size=min(calls, len(recorded)), replace=False))
+    return recorded, kept
+
+
+def record_plan(seeds: list[int], seconds: float, calls: int, every: int) -> dict[str, np.ndarray]:
+    from nubot_control import motion
+
+    recorded, kept = record_calls(motion, "plan", seeds, seconds, calls)  # the name MotionController calls
     print(f"golden: {len(recorded)} plans, {len(kept)} kept", file=sys.stderr)
     out: dict[str, list] = {name: [] for name in ("start", "start_velocity", "end_speed", "bounds", "params")}
     waypoints, obstacles, via, samples, picked = [], [], [], [], []
@@ -206,26 +214,13 @@ def record_labels(seeds: list[int], seconds: float, calls: int) -> dict[str, np.
     from nubot_common.world_state import ObstacleLabel
     from world_model import world_model
 
-    recorded: list[tuple[tuple, Any]] = []
-    original = world_model.label_obstacles
-
-    def label_obstacles(*args: Any) -> Any:
-        result = original(*args)
-        recorded.append((args, result))
-        return result
-
-    world_model.label_obstacles = label_obstacles  # type: ignore[assignment]  # the name WorldModel.snapshot calls
-    try:
-        play(seeds, seconds)
-    finally:
-        world_model.label_obstacles = original
-    rng = np.random.default_rng(0)
-    kept = sorted(int(i) for i in rng.choice(len(recorded), size=min(calls, len(recorded)), replace=False))
+    # the name WorldModel.snapshot calls
+    recorded, kept = record_calls(world_model, "label_obstacles", seeds, seconds, calls)
     print(f"golden: {len(recorded)} labellings, {len(kept)} kept", file=sys.stderr)
     me, agent, radii = [], [], []
     own, velocities, reported, mates, labelled = [], [], [], [], []
     for i in kept:
-        (pose, agent_id, own_points, by_observer, mate_points, teammate_radius, merge_radius, speeds), result = \
+        (pose, agent_id, own_points, by_observer, mate_points, teammate_radius, merge_radius, speeds), _, result = \
             recorded[i]
         me.append((pose.x, pose.y, pose.theta))
         agent.append(agent_id)
