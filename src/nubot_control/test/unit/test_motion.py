@@ -92,6 +92,24 @@ def test_mpc_follows_waypoints_in_order_around_two_robots():
     assert np.linalg.norm(xy[-1] - waypoints[-1]) < 0.03
 
 
+def test_a_robot_pushed_off_its_route_goes_on_to_the_waypoints_still_ahead():
+    """Past p1, the robot is pushed 0.6 m off its plan (a collision, a base that lags): the new plan starts from the
+    robot and goes on to p2 and p3, not back to p1."""
+    waypoints = [(-2.0, 2.0), (2.0, -2.0), (6.0, 2.0)]
+    ctl = MotionController(MotionParams(), WorldDescription(), DT)
+    pose = Pose2D(-6.0, -3.0, 0.0)
+    for _ in range(int(8.0 / DT)):
+        bx, by, w = ctl.follow(pose, waypoints, 0.0, [], DT)
+        vx, vy = rotate(bx, by, pose.theta)
+        pose = Pose2D(pose.x + vx * DT, pose.y + vy * DT, pose.theta + w * DT)
+        if ctl.waypoints[0] == waypoints[1] and pose.x > -1.0:
+            break
+    assert ctl.waypoints[0] == waypoints[1], "p1 passed"
+    pushed = Pose2D(pose.x, pose.y + 0.6, pose.theta)
+    ctl.follow(pushed, waypoints, 0.0, [], DT)
+    assert waypoints[0] not in ctl.waypoints and ctl.trajectory.via[0] == pytest.approx((pushed.x, pushed.y))
+
+
 def test_mpc_reference_moves_on_smoothly_from_cycle_to_cycle():
     ctl = MotionController(MotionParams(), WorldDescription(), DT)
     pose, refs = Pose2D(0.0, 0.0, 0.0), []
