@@ -119,7 +119,9 @@ def test_a_robot_whose_world_model_stopped_stands_still_until_a_fresh_one_arrive
 def test_a_robot_keeps_nothing_per_cycle_its_memory_stays_flat_after_a_warm_up():
     """A robot's nodes run for hours at 33 Hz: a few hundred bytes kept per cycle would be a MiB a minute.
     The scenario repeats every 400 cycles (set plays and open play, the ball held, lost and found again, the
-    robot on a circle among moving opponents). After two rounds to warm up, a third adds less than 32 KiB."""
+    robot on a circle among moving opponents). After two rounds to warm up, four more add less than 48 KiB (30 B a
+    cycle): what the robot holds at a round's end differs by up to about 35 KiB with the plan it is following then,
+    a leak of 85 B a cycle would add 136 KiB."""
     agent = RobotAgent(RobotName("nubot", 2), WorldDescription())
     modes = (MatchMode.OUR_KICKOFF, MatchMode.STARTROBOT, MatchMode.OPP_FREEKICK, MatchMode.STARTROBOT,
              MatchMode.STOPROBOT)
@@ -147,11 +149,11 @@ def test_a_robot_keeps_nothing_per_cycle_its_memory_stays_flat_after_a_warm_up()
             cycle(k)
         gc.collect()
         before = tracemalloc.get_traced_memory()[0]
-        for k in range(2 * period, 3 * period):
+        for k in range(2 * period, 6 * period):
             cycle(k)
         gc.collect()
         grown = tracemalloc.get_traced_memory()[0] - before
     finally:
         if started:
             tracemalloc.stop()
-    assert grown < 32 * 1024, f"{grown} B kept over {period} cycles ({grown / period:.0f} B a cycle)"
+    assert grown < 48 * 1024, f"{grown} B kept over {4 * period} cycles ({grown / (4 * period):.0f} B a cycle)"
