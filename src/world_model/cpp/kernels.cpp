@@ -11,8 +11,8 @@
 namespace py = pybind11;
 using world_model::Labelled;
 using world_model::ObstacleTracker;
-using world_model::Seen;
 using world_model::Point;
+using world_model::Seen;
 
 PYBIND11_MODULE(_kernels, m) {
   m.doc() = "world_model's compiled kernels: the obstacle tracker and labelling (see world_model.obstacles).";
@@ -37,11 +37,11 @@ PYBIND11_MODULE(_kernels, m) {
         }
         return out;
       },
-      py::arg("mx"), py::arg("my"), py::arg("mtheta"), py::arg("agent_id"), py::arg("own"), py::arg("reported"), py::arg("mates"),
-      py::arg("teammate_radius"), py::arg("merge_radius"),
+      py::arg("mx"), py::arg("my"), py::arg("mtheta"), py::arg("agent_id"), py::arg("own"), py::arg("reported"),
+      py::arg("mates"), py::arg("teammate_radius"), py::arg("merge_radius"),
       "Own obstacles, then the teammates' (observer, x, y) not already listed nor this robot, each labelled with the "
-      "teammate (AgentID, x, y) it is: a list of (x, y, observer, teammate (0: an opponent), bearing [rad], distance [m]) "
-      "from this robot at (mx, my, mtheta).");
+      "teammate (AgentID, x, y) it is: a list of (x, y, observer, teammate (0: an opponent), bearing [rad], "
+      "distance [m]) from this robot at (mx, my, mtheta).");
 
   py::class_<ObstacleTracker>(m, "ObstacleTracker", "Own obstacle percepts of successive frames, followed as tracks.")
       .def(py::init<double, double, double, double, double>(), py::arg("gate"), py::arg("position_gain"),
