@@ -11,7 +11,7 @@ time [s].
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from nubot_common.geometry import Pose2D, wrap_angle
 from nubot_common.team_play import Point, Role
@@ -82,8 +82,12 @@ class RobotReport:
         if dt == 0.0:
             return self
         pose = self.pose
-        return replace(self, pose=Pose2D(pose.x + self.vx * dt, pose.y + self.vy * dt,
-                                         wrap_angle(pose.theta + self.w * dt)))
+        # every field but the pose copied as it is, without running __init__ again: a tenth of the cost of
+        # dataclasses.replace, which the strategy paid for every teammate in every cycle
+        moved = object.__new__(RobotReport)
+        moved.__dict__.update(self.__dict__, pose=Pose2D(pose.x + self.vx * dt, pose.y + self.vy * dt,
+                                                         wrap_angle(pose.theta + self.w * dt)))
+        return moved
 
 
 @dataclass(frozen=True)
