@@ -41,7 +41,7 @@ from nubot_common.world_description import WorldDescription
 from nubot_control.areas import Rect, stay_out
 from nubot_control.mpc import LaguerreMpc, MpcParams
 from nubot_control.params import MotionParams
-from nubot_control.path_planning import Bounds, Disc, PlannerParams, Trajectory, plan
+from nubot_control.path_planning import Bounds, Disc, PlannerParams, Trajectory, keeps_clear, plan
 
 _MAX_DETOURS = 3
 _IN_THE_WAY = 0.3  # a robot is in the way of a velocity whose line passes it closer than min_distance plus this [m]
@@ -273,18 +273,9 @@ class MotionController:
             return False
         if not table:
             return True
-        discs = np.array(table)
-        clear = self.robot_radius + p.clearance + discs[:, 2]
-        # As the planner does, obstacles holding the robot or a waypoint are not avoided.
-        ends = np.array([(me.x, me.y)] + goals)
-        rel = ends[:, None, :] - discs[None, :, :2]
-        counted = ~(np.einsum("mkj,mkj->mk", rel, rel) < clear * clear).any(axis=0)
-        if not counted.any():
-            return True
         first = max(int(np.searchsorted(trajectory.t, self._plan_age, side="right")) - 1, 0)
-        rel = trajectory.xy[first:, None, :] - discs[None, counted, :2]
-        keep = np.maximum(clear[counted] - _INTRUSION_TOLERANCE, 0.0)
-        return bool((np.einsum("mkj,mkj->mk", rel, rel) >= keep * keep).all())
+        return keeps_clear(trajectory.xy[first:], [(me.x, me.y), *goals], table, self.robot_radius + p.clearance,
+                           _INTRUSION_TOLERANCE)
 
     def _track(self, me: Pose2D, goals: list[tuple[float, float]], obstacles: Sequence[tuple[float, ...]],
                dt: float, limit: float, accel: float) -> tuple[float, float]:

@@ -6,6 +6,9 @@ matches, kept as test data so that a new implementation of the piece can be held
 (ragged ones flattened, with offsets) and, of the trajectory it gave, the sample count, the route fitted (``via``)
 and every ``--every``-th sample's time, arc length, position and velocity (the last sample always).
 
+``python -m nubot_tools.golden clear --out FILE`` records ``path_planning.keeps_clear`` (whether a plan being kept
+still keeps the obstacles' clearances) as the motion layer calls it, half of the calls kept clear, half not.
+
 ``python -m nubot_tools.golden labels --out FILE`` records ``--calls`` of the world models' ``label_obstacles`` calls
 (their inputs and the labelled obstacles they gave).
 
@@ -154,6 +157,34 @@ def record_plan(seeds: list[int], seconds: float, calls: int, every: int) -> dic
     return trace
 
 
+def record_clear(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
+    """``path_planning.keeps_clear`` as ``MotionController`` calls it to decide whether a plan still holds: up to
+    ``--calls`` / 2 calls of each answer (drawn with the seeded generator), each with the path, the ends, the
+    obstacles, the margin and tolerance, and the answer."""
+    from nubot_control import motion
+
+    recorded, _ = record_calls(motion, "keeps_clear", seeds, seconds, 0)
+    rng = np.random.default_rng(0)
+    kept: list[int] = []
+    for answer in (True, False):
+        which = [i for i, (_, _, result) in enumerate(recorded) if result is answer]
+        kept += [int(i) for i in rng.choice(which, size=min(calls // 2, len(which)), replace=False)]
+    kept.sort()
+    print(f"golden: {len(recorded)} checks ({sum(r for _, _, r in recorded)} clear), {len(kept)} kept",
+          file=sys.stderr)
+    paths, ends, obstacles, scalars = [], [], [], []
+    for i in kept:
+        (path, points, table, margin, tolerance), _, result = recorded[i]
+        paths.append(np.asarray(path, dtype=float).reshape(-1, 2))
+        ends.append(np.array(points, dtype=float).reshape(-1, 2))
+        obstacles.append(np.array(table, dtype=float).reshape(-1, 3))
+        scalars.append((margin, tolerance, float(result)))
+    trace = {"scalars": np.array(scalars).reshape(-1, 3)}
+    for name, rows, width in (("path", paths, 2), ("ends", ends, 2), ("obstacles", obstacles, 3)):
+        trace[name], trace[f"{name}_offsets"] = _ragged(rows, width)
+    return trace
+
+
 def record_obstacles(seeds: list[int], seconds: float, trackers: int) -> dict[str, np.ndarray]:
     """Every call of ``--trackers`` robots' ``ObstacleTracker`` (drawn with the seeded generator), in order: an
     update's frame time and percepts (kind 0), an estimate's time and its tracks, positions and velocities (kind 1)."""
@@ -240,12 +271,12 @@ def record_labels(seeds: list[int], seconds: float, calls: int) -> dict[str, np.
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("mpc", "plan", "obstacles", "labels"))
+    ap.add_argument("piece", choices=("mpc", "plan", "obstacles", "labels", "clear"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
     ap.add_argument("--per-status", type=int, default=500, help="mpc: calls kept of each way a command was found")
-    ap.add_argument("--calls", type=int, default=600, help="plan, labels: calls kept")
+    ap.add_argument("--calls", type=int, default=600, help="plan, labels, clear: calls kept")
     ap.add_argument("--every", type=int, default=8, help="plan: every n-th sample of a trajectory kept")
     ap.add_argument("--trackers", type=int, default=3, help="obstacles: robots whose tracker is kept")
     args = ap.parse_args(argv)
@@ -258,6 +289,8 @@ def main(argv: list[str] | None = None) -> int:
         trace = record_plan(seeds, args.seconds, args.calls, args.every)
     elif args.piece == "labels":
         trace = record_labels(seeds, args.seconds, args.calls)
+    elif args.piece == "clear":
+        trace = record_clear(seeds, args.seconds, args.calls)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
     args.out.parent.mkdir(parents=True, exist_ok=True)
