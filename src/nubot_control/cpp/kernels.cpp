@@ -146,6 +146,24 @@ PYBIND11_MODULE(_kernels, m) {
       py::arg("start_velocity"), py::arg("end_speed"),
       "The trajectory's (t, s, xy, v, via) (see nubot_control.path_planning.plan); obstacles: (k, 3) rows.");
 
+  m.def(
+      "keeps_clear",
+      [](const py::object& path, const py::object& ends, const Array& obstacles, double margin, double tolerance) {
+        const Array xy = Array::ensure(path);
+        if (!xy || xy.ndim() != 2 || xy.shape(1) != 2) {
+          PyErr_Clear();
+          throw std::invalid_argument("path must be an (n, 2) array of points");
+        }
+        std::vector<nubot_control::Vec2> points;
+        std::size_t i = 0;
+        for (const py::handle e : ends) points.push_back(finite_point(e, "ends[" + std::to_string(i++) + "]"));
+        const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>> rows(xy.data(),
+                                                                                                 xy.shape(0), 2);
+        return nubot_control::keeps_clear(rows, points, discs(obstacles), margin, tolerance);
+      },
+      py::arg("path"), py::arg("ends"), py::arg("obstacles"), py::arg("margin"), py::arg("tolerance"),
+      "Whether the path keeps the obstacles' clearances (see nubot_control.path_planning.keeps_clear).");
+
   m.def("laguerre_basis", &nubot_control::laguerre_basis, py::arg("pole"), py::arg("terms"), py::arg("steps"),
         "Discrete Laguerre functions: row i is L(i)^T, shape (steps, terms).");
 

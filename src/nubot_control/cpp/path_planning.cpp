@@ -717,6 +717,24 @@ bool Bounds::contains(const Vec2& p) const {
   return x_min <= p.x() && p.x() <= x_max && y_min <= p.y() && p.y() <= y_max;
 }
 
+bool keeps_clear(const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>& path,
+                 const std::vector<Vec2>& ends, const std::vector<Disc>& obstacles, double margin, double tolerance) {
+  for (const Disc& d : obstacles) {
+    const double clear = margin + d.radius;
+    const bool holds = std::any_of(ends.begin(), ends.end(), [&](const Vec2& e) {
+      const double rx = e.x() - d.x, ry = e.y() - d.y;
+      return rx * rx + ry * ry < clear * clear;
+    });
+    if (holds) continue;
+    const double keep = std::max(clear - tolerance, 0.0);
+    for (Eigen::Index i = 0; i < path.rows(); ++i) {
+      const double rx = path(i, 0) - d.x, ry = path(i, 1) - d.y;
+      if (rx * rx + ry * ry < keep * keep) return false;
+    }
+  }
+  return true;
+}
+
 std::vector<Vec2> subtargets(const Vec2& start, const Vec2& goal, const std::vector<Disc>& obstacles,
                              const PlannerParams& params, const Bounds& bounds) {
   return leg(start, goal, Scene(obstacles, params), bounds, params.max_subtargets);

@@ -50,4 +50,10 @@ std::vector<Vec2> subtargets(const Vec2& start, const Vec2& goal, const std::vec
 PlanResult plan(const Vec2& start, const std::vector<Vec2>& waypoints, const std::vector<Disc>& obstacles,
                 const PlannerParams& params, const Bounds& bounds, const Vec2& start_velocity, double end_speed);
 
+// Whether every point of path stays margin + radius - tolerance or farther from the centre of each obstacle whose
+// margin + radius holds none of ends (as the planner does, an obstacle holding the robot or a waypoint is not
+// avoided). Squared distances are compared, as nubot_control.path_planning.keeps_clear's golden trace was made.
+bool keeps_clear(const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>& path,
+                 const std::vector<Vec2>& ends, const std::vector<Disc>& obstacles, double margin, double tolerance);
+
 }  // namespace nubot_control

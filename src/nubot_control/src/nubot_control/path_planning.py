@@ -136,18 +136,11 @@ def keeps_clear(path: np.ndarray, ends: Sequence[Point], obstacles: Sequence[tup
                 margin: float, tolerance: float) -> bool:
     """Whether every point of ``path`` ((n, 2) [m]) stays ``margin`` + radius - ``tolerance`` [m] or farther from
     the centre of each obstacle ((x, y, radius) [m]) whose margin + radius holds none of ``ends`` (the robot and its
-    waypoints: as the planner does, an obstacle holding one is not avoided)."""
+    waypoints: as the planner does, an obstacle holding one is not avoided). Compiled (``cpp/path_planning.cpp``)."""
     if not obstacles:
         return True
-    discs = np.array(obstacles)
-    clear = margin + discs[:, 2]
-    rel = np.array(ends)[:, None, :] - discs[None, :, :2]
-    counted = ~(np.einsum("mkj,mkj->mk", rel, rel) < clear * clear).any(axis=0)
-    if not counted.any():
-        return True
-    rel = path[:, None, :] - discs[None, counted, :2]
-    keep = np.maximum(clear[counted] - tolerance, 0.0)
-    return bool((np.einsum("mkj,mkj->mk", rel, rel) >= keep * keep).all())
+    return bool(_kernels.keeps_clear(path, ends, np.asarray(obstacles, dtype=float).reshape(-1, 3), float(margin),
+                                     float(tolerance)))
 
 
 def subtargets(start: Point, goal: Point, obstacles: Sequence[Disc], params: PlannerParams,

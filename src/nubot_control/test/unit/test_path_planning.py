@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from nubot_control.path_planning import Bounds, Disc, PlannerParams, clearance, plan, subtargets
+from nubot_control.path_planning import Bounds, Disc, PlannerParams, clearance, keeps_clear, plan, subtargets
 
 P = PlannerParams()
 FIELD = Bounds(-11.0, 11.0, -7.0, 7.0)
@@ -342,6 +342,40 @@ def test_the_planner_gives_its_golden_trajectories():
         np.testing.assert_allclose(tr.v[index], expected[:, 4:6], rtol=0.0, atol=1e-6, err_msg=f"call {i}")
         extended += len(tr.via) > len(waypoints) + 1
     assert extended > 50, "the trace must hold routes the planner extended (subtargets, corrections)"
+
+
+CLEAR_GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "clear.npz"
+
+
+def test_the_clearance_check_gives_its_golden_answers():
+    """400 of the 40,057 checks the motion layer made of a kept plan's path (3 seeded lockstep matches of 60 s,
+    ``python -m nubot_tools.golden clear``), half clear and half not, recorded from the numpy implementation the
+    compiled one replaced: the same answer for every one (both compare the same squared distances)."""
+    with np.load(CLEAR_GOLDEN) as archive:
+        trace = dict(archive)
+
+    def rows(name, i):
+        offsets = trace[f"{name}_offsets"]
+        return trace[name][offsets[i]:offsets[i + 1]]
+
+    answers = []
+    for i, (margin, tolerance, expected) in enumerate(trace["scalars"]):
+        ends, obstacles = [tuple(e) for e in rows("ends", i)], [tuple(o) for o in rows("obstacles", i)]
+        got = keeps_clear(rows("path", i), ends, obstacles, margin, tolerance)
+        assert got == bool(expected), f"check {i}"
+        answers.append(got)
+    assert 0 < sum(answers) < len(answers), "the trace must hold both answers"
+
+
+def test_the_clearance_check_ignores_an_obstacle_that_holds_the_robot_or_a_waypoint():
+    path = np.array([(x, 0.0) for x in np.linspace(0.0, 4.0, 41)])
+    in_the_way = (2.0, 0.3, 0.26)
+    assert not keeps_clear(path, [(0.0, 0.0), (4.0, 0.0)], [in_the_way], 0.3, 0.01)
+    assert keeps_clear(path, [(0.0, 0.0), (2.0, 0.5)], [in_the_way], 0.3, 0.01), "a waypoint inside: not avoided"
+    assert keeps_clear(path, [(0.0, 0.0), (4.0, 0.0)], [(2.0, 1.0, 0.26)], 0.3, 0.01)
+    assert keeps_clear(path, [(0.0, 0.0)], [], 0.3, 0.01)
+    with pytest.raises(ValueError, match="path must be an"):
+        keeps_clear(np.zeros(3), [(0.0, 0.0)], [in_the_way], 0.3, 0.01)
 
 
 @pytest.mark.parametrize("row", [(math.nan, 0.0, 0.26), (1.0, math.inf, 0.26), (1.0, 0.0, -0.1)])
