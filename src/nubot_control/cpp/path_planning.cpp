@@ -19,11 +19,6 @@ constexpr double kMinTurnSin = 0.05;      // tangents meeting at a sharper angle
 constexpr double kMaxSpan = 1.5;          // longer route segments get points along them [m]
 constexpr double kMinSpeed = 1e-3;        // floor of the curvature speed limit [m/s]
 constexpr double kMinAlong = 0.2;         // the share of max_accel always left for speeding up and braking
-constexpr double kAccelRounding = 1e-9;   // a plan's acceleration may exceed the limit by this share (rounding)
-constexpr int kLeadTries = 4;             // a fast start's lead-ins tried, from 1/8 of the longest up
-constexpr int kLeadSteps = 64;            // integration steps of a lead-in
-constexpr double kLeadShare = 0.9;        // the share of max_accel a lead-in turns and brakes with
-constexpr double kLeadBeyond = M_PI / 2.0;  // a lead-in turns at most this much beyond its point's bearing [rad]
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kDegree = 3;
 
@@ -473,16 +468,6 @@ bool apply(std::vector<Vec2>& route, std::vector<bool>& movable, const Eigen::Ve
     movable.insert(movable.begin() + static_cast<std::ptrdiff_t>(a) + 1, true);
     changed = true;
   }
-  // a moved point may have landed on its neighbour: one of two points closer than kSamePoint goes, a movable one
-  for (std::size_t i = 1; i < route.size();) {
-    if (dist(route[i], route[i - 1]) >= kSamePoint || !(movable[i] || movable[i - 1])) {
-      ++i;
-      continue;
-    }
-    const std::size_t gone = movable[i] ? i : i - 1;
-    route.erase(route.begin() + static_cast<std::ptrdiff_t>(gone));
-    movable.erase(movable.begin() + static_cast<std::ptrdiff_t>(gone));
-  }
   return changed;
 }
 
@@ -530,181 +515,6 @@ Points to_points(const std::vector<Vec2>& route) {
   Points out(static_cast<Eigen::Index>(route.size()), 2);
   for (std::size_t i = 0; i < route.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = route[i].transpose();
   return out;
-}
-
-// The lead-in a fast start takes before the spline: from start along a unit direction, a curve that turns towards
-// one side (curvature0 > 0: left) while braking, its curvature kappa(s) = curvature0 / (1 - s / stop) growing as the
-// speed it is made for, v(s)^2 = v0^2 (1 - s / stop), falls: at that speed the acceleration across it is lateral
-// throughout (curvature0 = lateral / v0^2), and the speed profile may use that much on it instead of
-// max_lateral_accel. Positions are integrated by the midpoint rule in kLeadSteps steps.
-class LeadIn {
- public:
-  LeadIn() = default;
-  LeadIn(const Vec2& start, const Vec2& direction, double curvature0, double stop, double length, double lateral)
-      : start_(start), direction_(direction), curvature0_(curvature0), stop_(stop), length_(length),
-        step_(length / kLeadSteps), lateral_(lateral) {
-    points_.push_back(start);
-    for (int k = 0; k < kLeadSteps; ++k) points_.push_back(points_.back() + step_ * tangent((k + 0.5) * step_));
-  }
-
-  double length() const { return length_; }
-  const std::vector<Vec2>& points() const { return points_; }  // kLeadSteps + 1 points along it, start to end
-  double lateral() const { return lateral_; }  // the acceleration across it it is made for [m/s^2]
-
-  // The nu-th derivative (nu <= 2) by arc length s, 0 <= s <= length.
-  Vec2 at(double s, int nu) const {
-    if (nu == 1) return tangent(s);
-    if (nu == 2) {
-      const Vec2 t = tangent(s);
-      return curvature0_ / (1.0 - s / stop_) * Vec2(-t.y(), t.x());
-    }
-    const int k = std::min(static_cast<int>(s / step_), kLeadSteps - 1);
-    const double from = k * step_;
-    return points_[static_cast<std::size_t>(k)] + (s - from) * tangent(0.5 * (from + s));
-  }
-
- private:
-  Vec2 tangent(double s) const {
-    const double turn = -curvature0_ * stop_ * std::log1p(-s / stop_);
-    const double c = std::cos(turn), sn = std::sin(turn);
-    return Vec2(c * direction_.x() - sn * direction_.y(), sn * direction_.x() + c * direction_.y());
-  }
-
-  Vec2 start_{0.0, 0.0}, direction_{1.0, 0.0};
-  double curvature0_ = 0.0, stop_ = 1.0, length_ = 0.0, step_ = 0.0, lateral_ = 0.0;
-  std::vector<Vec2> points_;
-};
-
-// Steps 2-4 of plan for a prepared route: the spline (along direction at the start when given), corrected for
-// clearances and bounds, sampled evenly in arc length and given its speed profile from start_speed. With a lead-in
-// (length > 0) the path follows it from p0 to the route's start, where the spline takes over along its end's
-// direction.
-PlanResult shape(std::vector<Vec2>& route, std::vector<bool>& movable, const Scene& scene,
-                 const std::vector<bool>& counted, const PlannerParams& params, const Bounds& bounds, const Vec2& p0,
-                 const Vec2* direction, const LeadIn& lead_in, double start_speed, double end_speed) {
-  const double lead = lead_in.length();
-  // 2-3. fit; correct clearance and bounds violations and refit
-  Spline spline;
-  Eigen::VectorXd at;
-  Points samples;
-  for (int attempt = 0; attempt <= kMaxRefits; ++attempt) {
-    const Points route_xy = to_points(route);
-    const Eigen::VectorXd u = chord_params(route_xy);
-    spline = fit(route_xy, u, direction);
-    const double end = u(u.size() - 1);
-    const Eigen::Index count = std::max(static_cast<Eigen::Index>(std::ceil(end / params.sample_step)),
-                                        Eigen::Index{3});
-    at.resize(count + 1);
-    samples.resize(count + 1, 2);
-    for (Eigen::Index i = 0; i <= count; ++i) {
-      at(i) = static_cast<double>(i) * (end / static_cast<double>(count));
-      samples.row(i) = spline.at(at(i), 0).transpose();
-    }
-    if (attempt == kMaxRefits) break;
-    const auto fixes = corrections(samples, at, route_xy, u, scene, counted, bounds);
-    if (fixes.empty() || !apply(route, movable, u, fixes)) break;
-  }
-
-  // the lead-in's samples before the spline's, the spline's parameter shifted by its length
-  const Eigen::Index before =
-      lead > 0.0 ? std::max(static_cast<Eigen::Index>(std::ceil(lead / params.sample_step)), Eigen::Index{1}) : 0;
-  if (before > 0) {
-    Points all(before + samples.rows(), 2);
-    Eigen::VectorXd all_at(before + samples.rows());
-    for (Eigen::Index k = 0; k < before; ++k) {
-      all_at(k) = lead * static_cast<double>(k) / static_cast<double>(before);
-      all.row(k) = lead_in.at(all_at(k), 0).transpose();
-    }
-    all.bottomRows(samples.rows()) = samples;
-    all_at.tail(samples.rows()) = at.array() + lead;
-    samples = std::move(all);
-    at = std::move(all_at);
-  }
-  auto geometry = [&](double param, int nu) -> Vec2 {
-    if (param >= lead) return spline.at(param - lead, nu);
-    return lead_in.at(param, nu);
-  };
-
-  // 4. samples evenly spaced in arc length, and the speed profile
-  const Eigen::Index dense = samples.rows();
-  Eigen::VectorXd s_dense(dense);
-  s_dense(0) = 0.0;
-  for (Eigen::Index i = 1; i < dense; ++i) {
-    s_dense(i) = s_dense(i - 1) + std::hypot(samples(i, 0) - samples(i - 1, 0), samples(i, 1) - samples(i - 1, 1));
-  }
-  const double total = s_dense(dense - 1);
-  const Eigen::Index count = std::max(static_cast<Eigen::Index>(std::ceil(total / params.sample_step)),
-                                      Eigen::Index{1});
-  const double ds = total / static_cast<double>(count);
-  PlanResult result;
-  result.s.resize(count + 1);
-  result.xy.resize(count + 1, 2);
-  result.v.resize(count + 1, 2);
-  Points d1(count + 1, 2);
-  Eigen::VectorXd norm(count + 1), curvature(count + 1), across(count + 1);  // across: the lateral limit
-  const Vec2 low(std::min(bounds.x_min, p0.x()), std::min(bounds.y_min, p0.y()));
-  const Vec2 high(std::max(bounds.x_max, p0.x()), std::max(bounds.y_max, p0.y()));
-  Eigen::Index j = 0;  // s_dense(j) <= s < s_dense(j + 1): np.interp's interval
-  for (Eigen::Index i = 0; i <= count; ++i) {
-    const double s = static_cast<double>(i) * ds;
-    result.s(i) = s;
-    double param;
-    if (s >= s_dense(dense - 1)) {
-      param = at(dense - 1);
-    } else if (s <= s_dense(0)) {
-      param = at(0);
-    } else {
-      while (j + 1 < dense && s_dense(j + 1) <= s) ++j;
-      const double slope = (at(j + 1) - at(j)) / (s_dense(j + 1) - s_dense(j));
-      param = slope * (s - s_dense(j)) + at(j);
-    }
-    const Vec2 p = geometry(param, 0), first = geometry(param, 1), second = geometry(param, 2);
-    across(i) = param < lead ? lead_in.lateral() : params.max_lateral_accel;
-    result.xy.row(i) = p.cwiseMax(low).cwiseMin(high).transpose();
-    d1.row(i) = first.transpose();
-    norm(i) = std::max(std::hypot(first.x(), first.y()), 1e-9);
-    curvature(i) = std::abs(first.x() * second.y() - first.y() * second.x()) / std::pow(norm(i), 3);
-  }
-  Eigen::VectorXd limit(count + 1), along(count + 1);
-  const double a_max = params.max_accel;
-  // the curvature between two samples: the sharper of the ends' and of the turn from one's direction to the other's
-  Eigen::VectorXd between(count);
-  for (Eigen::Index i = 0; i < count; ++i) {
-    const double cross = d1(i, 0) * d1(i + 1, 1) - d1(i, 1) * d1(i + 1, 0);
-    const double dot = d1(i, 0) * d1(i + 1, 0) + d1(i, 1) * d1(i + 1, 1);
-    between(i) = std::max({curvature(i), curvature(i + 1), std::abs(std::atan2(cross, dot)) / ds});
-  }
-  for (Eigen::Index i = 0; i <= count; ++i) {
-    // a sample's speed holds on both sides: the sharper of the curves before and after it
-    const double sharpest = std::max(i > 0 ? between(i - 1) : curvature(i), i < count ? between(i) : curvature(i));
-    const double l = std::sqrt(across(i) / std::max(sharpest, 1e-12));
-    limit(i) = std::min(std::max(l, kMinSpeed), params.max_speed);
-    // what the curve leaves of max_accel for speeding up and braking (at the speed limit, the most it can take)
-    const double lateral = std::min(limit(i) * limit(i) * sharpest, across(i));
-    along(i) = std::sqrt(std::max(a_max * a_max - lateral * lateral, (kMinAlong * a_max) * (kMinAlong * a_max)));
-  }
-  const Eigen::VectorXd speed = speed_profile(limit, ds, start_speed,
-                                              std::min(end_speed, params.max_speed), along);
-  result.t.resize(count + 1);
-  result.t(0) = 0.0;
-  for (Eigen::Index i = 1; i <= count; ++i) {
-    result.t(i) = result.t(i - 1) + 2.0 * ds / std::max(speed(i - 1) + speed(i), 1e-9);
-  }
-  for (Eigen::Index i = 0; i <= count; ++i) result.v.row(i) = d1.row(i) * (speed(i) / norm(i));
-  if (before > 0) result.via.push_back(p0);
-  result.via.insert(result.via.end(), route.begin(), route.end());
-  return result;
-}
-
-// The first sample after which the plan's acceleration exceeds accel (to rounding: a plan made at the limit reaches
-// it), or -1 if it never does.
-Eigen::Index beyond_accel(const PlanResult& plan, double accel) {
-  const double allowed = accel * (1.0 + kAccelRounding);
-  for (Eigen::Index i = 0; i + 1 < plan.t.size(); ++i) {
-    const double step = allowed * (plan.t(i + 1) - plan.t(i));
-    if ((plan.v.row(i + 1) - plan.v.row(i)).squaredNorm() > step * step) return i;
-  }
-  return -1;
 }
 
 }  // namespace
@@ -767,66 +577,91 @@ PlanResult plan(const Vec2& p0, const std::vector<Vec2>& waypoints, const std::v
     for (std::size_t i = 0; i < points.size() && !holds; ++i) holds = scene.inside(points[i], j);
     counted[static_cast<std::size_t>(j)] = !holds;
   }
+  prepare_route(route, movable);
+  if (route.size() < 4) return standing(p0);  // only within a centimetre steps of the start
+
+  // 2-3. fit; correct clearance and bounds violations and refit
   const double speed0 = std::hypot(v0.x(), v0.y());
   const Vec2 unit = speed0 > kDirectionSpeed ? Vec2(v0.x() / speed0, v0.y() / speed0) : Vec2(0.0, 0.0);
   const Vec2* direction = speed0 > kDirectionSpeed ? &unit : nullptr;
-  std::vector<Vec2> straight(route);
-  std::vector<bool> straight_movable(movable);
-  prepare_route(route, movable);
-  if (route.size() < 4) return standing(p0);  // only within a centimetre steps of the start
-  const double start_speed = std::min(speed0, params.max_speed);
-  PlanResult result = shape(route, movable, scene, counted, params, bounds, p0, direction, LeadIn{}, start_speed,
-                            end_speed);
-  if (!direction || beyond_accel(result, params.max_accel) < 0) return result;
-
-  // 5. a fast start the curve cannot take (the spline turns harder at once than the speed allows): a lead-in
-  // first, then the route from its end. The lead-in turns towards the route's next point, braking, with kLeadShare
-  // of max_accel pointing along the change of velocity that turn asks for (LeadIn). Its lengths
-  // tried: kLeadTries, each twice the one before, up to where it has turned by the bearing of that point; then, as
-  // the point drifts further round while the robot runs on, turning on towards a stop (halving what is left of the
-  // way to it each time) but not by more than kLeadBeyond beyond the bearing. The first that makes the plan keep
-  // the acceleration limit, with a lead-in clear of the obstacles and inside the bounds, is the plan; if none
-  // does, the spline's.
-  const Vec2 next = straight[1] - p0;
-  const double bearing = std::atan2(unit.x() * next.y() - unit.y() * next.x(), unit.dot(next));
-  // the acceleration along the change of velocity the turn asks for, from v0 * unit to v0 towards the point
-  const double lateral = kLeadShare * params.max_accel * std::cos(0.5 * bearing);
-  const double braking = kLeadShare * params.max_accel * std::abs(std::sin(0.5 * bearing));
-  const double v2 = start_speed * start_speed;
-  const double stop = braking > 0.0 ? v2 / (2.0 * braking) : kInf;
-  const double curvature0 = std::copysign(lateral / v2, bearing);
-  // turned by |bearing| where -curvature0 * stop * log(1 - s / stop) reaches it
-  const double whole = std::isfinite(stop) ? -stop * std::expm1(-std::abs(bearing) / (std::abs(curvature0) * stop))
-                                           : std::abs(bearing / curvature0);
-  // (a point straight behind turns hardly at all and stops: the lead-in ends short of the stop, where it turns)
-  const double most = std::min(whole, stop * (1.0 - std::ldexp(1.0, -kLeadTries)));
-  std::vector<double> lengths;
-  for (int k = kLeadTries - 1; k >= 0 && most > 0.0; --k) lengths.push_back(std::ldexp(most, -k));
-  for (int k = 1; k <= kLeadTries - 1 && std::isfinite(stop); ++k) {
-    const double length = stop * (1.0 - std::ldexp(1.0, -k));
-    const double turn = std::abs(curvature0) * stop * std::log(std::ldexp(1.0, k));
-    if (length > most && turn <= std::abs(bearing) + kLeadBeyond) lengths.push_back(length);
-  }
-  for (const double length : lengths) {
-    const LeadIn lead_in(p0, unit, curvature0, stop, length, lateral);
-    const Vec2 ahead = lead_in.at(lead_in.length(), 0);
-    bool clear = true;  // every point of the lead-in inside the bounds and outside the counted clearances
-    for (const Vec2& point : lead_in.points()) {
-      clear = clear && (point == p0 || bounds.contains(point));
-      for (Eigen::Index j = 0; j < scene.size() && clear; ++j) {
-        clear = !(counted[static_cast<std::size_t>(j)] && scene.inside(point, j));
-      }
+  Spline spline;
+  Eigen::VectorXd at;
+  Points samples;
+  for (int attempt = 0; attempt <= kMaxRefits; ++attempt) {
+    const Points route_xy = to_points(route);
+    const Eigen::VectorXd u = chord_params(route_xy);
+    spline = fit(route_xy, u, direction);
+    const double end = u(u.size() - 1);
+    const Eigen::Index count = std::max(static_cast<Eigen::Index>(std::ceil(end / params.sample_step)),
+                                        Eigen::Index{3});
+    at.resize(count + 1);
+    samples.resize(count + 1, 2);
+    for (Eigen::Index i = 0; i <= count; ++i) {
+      at(i) = static_cast<double>(i) * (end / static_cast<double>(count));
+      samples.row(i) = spline.at(at(i), 0).transpose();
     }
-    std::vector<Vec2> led_route(straight);
-    std::vector<bool> led_movable(straight_movable);
-    led_route[0] = ahead;
-    prepare_route(led_route, led_movable);
-    if (!clear || led_route.size() < 4) continue;
-    const Vec2 end_direction = lead_in.at(lead_in.length(), 1);
-    PlanResult led = shape(led_route, led_movable, scene, counted, params, bounds, p0, &end_direction, lead_in,
-                           start_speed, end_speed);
-    if (beyond_accel(led, params.max_accel) < 0) return led;
+    if (attempt == kMaxRefits) break;
+    const auto fixes = corrections(samples, at, route_xy, u, scene, counted, bounds);
+    if (fixes.empty() || !apply(route, movable, u, fixes)) break;
   }
+
+  // 4. samples evenly spaced in arc length, and the speed profile
+  const Eigen::Index dense = samples.rows();
+  Eigen::VectorXd s_dense(dense);
+  s_dense(0) = 0.0;
+  for (Eigen::Index i = 1; i < dense; ++i) {
+    s_dense(i) = s_dense(i - 1) + std::hypot(samples(i, 0) - samples(i - 1, 0), samples(i, 1) - samples(i - 1, 1));
+  }
+  const double total = s_dense(dense - 1);
+  const Eigen::Index count = std::max(static_cast<Eigen::Index>(std::ceil(total / params.sample_step)),
+                                      Eigen::Index{1});
+  const double ds = total / static_cast<double>(count);
+  PlanResult result;
+  result.s.resize(count + 1);
+  result.xy.resize(count + 1, 2);
+  result.v.resize(count + 1, 2);
+  Points d1(count + 1, 2);
+  Eigen::VectorXd norm(count + 1), curvature(count + 1);
+  const Vec2 low(std::min(bounds.x_min, p0.x()), std::min(bounds.y_min, p0.y()));
+  const Vec2 high(std::max(bounds.x_max, p0.x()), std::max(bounds.y_max, p0.y()));
+  Eigen::Index j = 0;  // s_dense(j) <= s < s_dense(j + 1): np.interp's interval
+  for (Eigen::Index i = 0; i <= count; ++i) {
+    const double s = static_cast<double>(i) * ds;
+    result.s(i) = s;
+    double param;
+    if (s >= s_dense(dense - 1)) {
+      param = at(dense - 1);
+    } else if (s <= s_dense(0)) {
+      param = at(0);
+    } else {
+      while (j + 1 < dense && s_dense(j + 1) <= s) ++j;
+      const double slope = (at(j + 1) - at(j)) / (s_dense(j + 1) - s_dense(j));
+      param = slope * (s - s_dense(j)) + at(j);
+    }
+    const Vec2 p = spline.at(param, 0), first = spline.at(param, 1), second = spline.at(param, 2);
+    result.xy.row(i) = p.cwiseMax(low).cwiseMin(high).transpose();
+    d1.row(i) = first.transpose();
+    norm(i) = std::max(std::hypot(first.x(), first.y()), 1e-9);
+    curvature(i) = std::abs(first.x() * second.y() - first.y() * second.x()) / std::pow(norm(i), 3);
+  }
+  Eigen::VectorXd limit(count + 1), along(count + 1);
+  const double a_max = params.max_accel, a_lat = params.max_lateral_accel;
+  for (Eigen::Index i = 0; i <= count; ++i) {
+    const double l = std::sqrt(a_lat / std::max(curvature(i), 1e-12));
+    limit(i) = std::min(std::max(l, kMinSpeed), params.max_speed);
+    // what the curve leaves of max_accel for speeding up and braking (at the speed limit, the most it can take)
+    const double lateral = std::min(limit(i) * limit(i) * curvature(i), a_lat);
+    along(i) = std::sqrt(std::max(a_max * a_max - lateral * lateral, (kMinAlong * a_max) * (kMinAlong * a_max)));
+  }
+  const Eigen::VectorXd speed = speed_profile(limit, ds, std::min(speed0, params.max_speed),
+                                              std::min(end_speed, params.max_speed), along);
+  result.t.resize(count + 1);
+  result.t(0) = 0.0;
+  for (Eigen::Index i = 1; i <= count; ++i) {
+    result.t(i) = result.t(i - 1) + 2.0 * ds / std::max(speed(i - 1) + speed(i), 1e-9);
+  }
+  for (Eigen::Index i = 0; i <= count; ++i) result.v.row(i) = d1.row(i) * (speed(i) / norm(i));
+  result.via = route;
   return result;
 }
 

@@ -1,6 +1,6 @@
 // Online path planning for the omnidirectional robot, the compiled core of nubot_control.path_planning (its module
-// docstring states the steps: subtargets, the cubic B-spline, the clearance and bounds corrections, the speed
-// profile, and a fast start's lead-in). Units SI: m, s, m/s, m/s^2.
+// docstring states the four steps: subtargets, the cubic B-spline, the clearance and bounds corrections, the speed
+// profile). Units SI: m, s, m/s, m/s^2.
 #pragma once
 
 #include <Eigen/Dense>

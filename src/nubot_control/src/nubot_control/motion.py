@@ -321,8 +321,8 @@ class MotionController:
 
     def _within_accel(self, trajectory: Trajectory, accel: float) -> bool:
         """Whether the robot can follow the plan for as long as it may be kept: its acceleration [m/s^2] stays
-        within ``accel``. The planner starts a fast start that must turn with a lead-in that keeps it (its step
-        5); the few plans it cannot make so (a goal just beside a robot running at it) are made anew every cycle."""
+        within ``accel``. A plan from a fast start can turn harder than that at first (its speed profile cannot
+        brake the start); replanned every cycle, it is bent into one the robot can follow."""
         soon = int(np.searchsorted(trajectory.t, self.params.keep_plan_time, side="right")) + 1
         t, v = trajectory.t[:soon], trajectory.v[:soon]
         if len(t) < 2:

@@ -9,7 +9,7 @@ Units SI throughout: m, s, m/s, m/s^2. Pure core: no ROS, safe to call every 30 
 is compiled (``nubot_control._kernels``, C++ with Eigen, built by catkin_make from ``cpp/path_planning.cpp``); this
 module holds the planner's parameters, its inputs' types, the ``Trajectory`` it returns and its Python API.
 
-``plan`` works in four steps, and a fifth for a fast start:
+``plan`` works in four steps:
 1. subtargets between consecutive route points (iterative; obstacles too close together to pass between
    form a cluster passed as one, the subtarget sitting where the tangents from both segment ends meet);
 2. a cubic interpolating B-spline through the route, parameterised by chord length; segments longer than
@@ -17,15 +17,8 @@ module holds the planner's parameters, its inputs' types, the ``Trajectory`` it 
 3. the spline is sampled and, wherever a sample is inside a clearance or well out of bounds, a via-point is
    added (or a subtarget moved) outward and the spline refitted, a bounded number of times;
 4. the samples are spaced evenly in arc length and given a speed profile: at most max_speed, at most
-   sqrt(max_lateral_accel / curvature) (the sharper of a sample's curvature and the turn to its neighbours'
-   directions), speeding up and braking so that the whole acceleration (along the path and towards the curve's
-   centre) stays within max_accel;
-5. when the start is fast and the spline turns harder at once than that speed allows (its acceleration between
-   the first samples beyond max_accel), the path starts with a lead-in instead: a curve that turns towards the
-   route at the start's speed while braking, using nearly all of max_accel (most of it across the path for a
-   slight turn, most of it braking for a sharp one), the spline taking over from its end. Of a few lead-in
-   lengths the shortest whose plan keeps max_accel throughout is kept, so that the robot can follow the plan
-   from its first sample and the motion layer need not replan the next cycle.
+   sqrt(max_lateral_accel / curvature), speeding up and braking so that the whole acceleration (along the
+   path and towards the curve's centre) stays within max_accel.
 """
 
 from __future__ import annotations
@@ -248,11 +241,10 @@ def plan(start: Point, waypoints: Sequence[Point], obstacles: Sequence[Disc], pa
     B-spline through it, adjusted to keep clearances and bounds, time-parameterised from |start_velocity|
     (capped at max_speed) to end_speed (capped at max_speed).
 
-    When start_velocity is faster than 0.1 m/s, its direction is the path's direction at the start, so that
-    replanning every cycle from a moving state stays smooth; if the spline then turns harder than that speed allows,
-    a lead-in turning and braking within max_accel comes first (step 5 above). When every waypoint lies within 1 cm
-    of the start (e.g. goal == start), the trajectory is one sample standing still. Waypoints outside the bounds are
-    clamped into them; samples are kept inside the bounds (widened to include the start, if the robot is outside).
+    When start_velocity is faster than 0.1 m/s, its direction is the spline's direction at the start, so that
+    replanning every cycle from a moving state stays smooth. When every waypoint lies within 1 cm of the start
+    (e.g. goal == start), the trajectory is one sample standing still. Waypoints outside the bounds are clamped
+    into them; samples are kept inside the bounds (widened to include the start, if the robot is outside).
     Obstacles whose clearance contains the start or a waypoint are not avoided (the robot must leave or reach
     them).
     """

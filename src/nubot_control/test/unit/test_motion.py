@@ -225,26 +225,6 @@ def test_keeping_plans_drives_like_replanning_every_cycle():
     assert np.linalg.norm(a[-1] - b[-1]) < 0.02
 
 
-@pytest.mark.parametrize("goal", [(2.0, 4.0), (0.0, 3.0), (6.0, -3.0)])
-def test_a_plan_made_at_full_speed_for_a_sharp_turn_is_kept(goal):
-    """At 3 m/s along +x the target jumps to the side: the plan made then turns at once within the acceleration
-    limit, and the robot follows it for the next 0.45 s without replanning (a plan that cannot be followed at its
-    start was made anew every cycle), and it arrives."""
-    ctl = MotionController(MotionParams(), WorldDescription(), DT)
-    pose, plans = Pose2D(-6.0, 0.0, 0.0), []
-    for k in range(int(6.0 / DT)):
-        target = Pose2D(6.0, 0.0, 0.0) if k < 50 else Pose2D(*goal, 0.0)
-        bx, by, w = ctl.command(pose, target, [], DT)
-        if k == 49:
-            assert math.hypot(bx, by) == pytest.approx(3.0, abs=0.05), "at full speed when the target jumps"
-        if 50 <= k < 65:
-            plans.append(ctl.trajectory)
-        vx, vy = rotate(bx, by, pose.theta)
-        pose = Pose2D(pose.x + vx * DT, pose.y + vy * DT, pose.theta + w * DT)
-    assert all(plan is plans[0] for plan in plans)
-    assert math.dist((pose.x, pose.y), goal) < 0.03
-
-
 @pytest.mark.parametrize("name", ["keep_plan_deviation", "keep_plan_goal_shift", "keep_plan_goal_share",
                                   "keep_plan_time"])
 def test_a_negative_keep_plan_parameter_is_refused(name):
