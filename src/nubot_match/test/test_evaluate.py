@@ -13,7 +13,15 @@ import pytest
 import yaml
 
 from nubot_match.evaluate import jobs_for
-from nubot_match.statistics import MatchResult, mean_interval, share_interval, summarise, table_text, verdict
+from nubot_match.statistics import (
+    MatchResult,
+    mean_interval,
+    rate_interval,
+    share_interval,
+    summarise,
+    table_text,
+    verdict,
+)
 from nubot_tools.processes import wait_until
 
 WORKSPACE = Path(__file__).resolve().parents[3]
@@ -221,3 +229,17 @@ def test_ctrl_c_inside_a_held_block_waits_for_its_end():
     finally:
         signal.signal(signal.SIGINT, previous)
     assert done == ["the line", "a later line"]
+
+
+def test_a_rate_has_the_exact_poisson_interval_even_when_nothing_happened():
+    none = rate_interval(0, 12.0)  # no goal in 12 running minutes
+    assert none.mean == 0.0 and none.low == 0.0 and none.high == pytest.approx(3.689 / 12.0, abs=1e-3)
+    four = rate_interval(4, 12.0)
+    assert four.mean == pytest.approx(1 / 3) and four.low == pytest.approx(1.090 / 12.0, abs=1e-3)
+    assert four.high == pytest.approx(10.242 / 12.0, abs=1e-3)
+    assert four.low < none.high  # four goals and none in equal time: not told apart by counting alone
+    many = rate_interval(400, 1200.0)
+    assert many.high - many.low < four.high - four.low  # more time, a narrower interval
+    for bad in ((-1, 1.0), (3, 0.0), (3, math.nan)):
+        with pytest.raises(ValueError, match="exposure"):
+            rate_interval(*bad)

@@ -7,7 +7,8 @@ collisions, fouls and goals by kind).
 Provides: ``summarise`` -> ``Summary`` (rows of mean and 95 % CI per team and figure; the ``YARDSTICKS``
 that say whether the matches play like MSL matches, each with its interval, target and verdict; wins,
 draws and losses as shares with Wilson intervals; the goal difference per match with a Student-t
-interval), ``table_text`` (Markdown tables), ``verdict`` (one line) and ``plot_goal_difference`` (a PNG).
+interval), ``table_text`` (Markdown tables), ``verdict`` (one line), ``plot_goal_difference`` (a PNG) and
+``rate_interval`` (a count per unit of time with its exact Poisson interval).
 Confidence intervals: every match is an independent game (a seed of its own), so figures and yardsticks
 use the t distribution over the matches; the goal difference pairs the two matches each way round
 (``MatchResult.pair``: one unit, n pairs, n - 1 degrees of freedom), which takes what an end or a
@@ -191,6 +192,18 @@ def share_interval(count: int, total: int) -> Interval:
         return Interval(math.nan, math.nan, math.nan)
     ci = stats.binomtest(count, total).proportion_ci(confidence_level=LEVEL, method="wilson")
     return Interval(count / total, float(ci.low), float(ci.high))
+
+
+def rate_interval(count: int, exposure: float) -> Interval:
+    """``count`` events in ``exposure`` (e.g. minutes) as a rate with its exact Poisson (Garwood) 95 % interval: the
+    counting noise that a handful of events has whatever the spread between matches (no goal in four matches is
+    a rate of 0 known to within about 0.3 per running minute of twelve, not 0 +- 0)."""
+    if count < 0 or not exposure > 0.0:
+        raise ValueError(f"a rate needs a count >= 0 and an exposure > 0, got {count} in {exposure}")
+    alpha = 1.0 - LEVEL
+    low = 0.0 if count == 0 else float(stats.chi2.ppf(alpha / 2.0, 2 * count)) / 2.0
+    high = float(stats.chi2.ppf(1.0 - alpha / 2.0, 2 * count + 2)) / 2.0
+    return Interval(count / exposure, low / exposure, high / exposure)
 
 
 def per_unit(results: Sequence[MatchResult], value: Callable[[MatchResult], float]) -> list[float]:

@@ -19,7 +19,10 @@ seed=s)``, ``MatchLogRecorder``, ``nubot_tools.match_analysis.analyse``) and a R
 - the share of the match the ball is in play (running time over running and stopped time within the halves).
 
 Provides: ``<out>/faithfulness.json`` (per metric the mean and 95 % Student-t interval,
-``nubot_match.statistics.mean_interval``, for lockstep and ROS and whether the two intervals overlap; every
+``nubot_match.statistics.mean_interval``, for lockstep and ROS and whether the two intervals overlap; for the
+figures per minute (goals, shots, collisions, fouls) the interval is at least as wide as the exact Poisson one
+of all the matches' events in all their running time, ``rate_interval``: four matches with a goal each have the
+same rate, and a t interval of zero width would call any other count apart; every
 match's figures; ROS matches cut short are listed but left out of the intervals; the share of the ROS robots'
 control cycles missed, ``run_match.py --perf-json``: a busy machine's cycles come late or not at all, which
 lockstep never has) and
@@ -38,8 +41,12 @@ import sys
 import time
 from dataclasses import asdict
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from nubot_tools.workspace import WORKSPACE
+
+if TYPE_CHECKING:
+    from nubot_match.statistics import Interval
 
 METRICS = {"goals_per_minute": "goals per minute of running time",
            "shots_per_minute": "shots per minute of running time",
@@ -49,6 +56,9 @@ METRICS = {"goals_per_minute": "goals per minute of running time",
            "collisions_per_minute": "robot-robot collisions per minute",
            "fouls_per_minute": "fouls per minute of running time",
            "running_share": "share of the match in play"}
+# The figures per minute of running time, with the count behind each (see compare).
+RATES = {"goals_per_minute": "goals", "shots_per_minute": "shots", "collisions_per_minute": "collisions",
+         "fouls_per_minute": "fouls"}
 HOME_TEAM = "nubot"  # the first team of run_match.py and of match_config, kicking off at -x
 QUICK_SEEDS, QUICK_HALF_SECONDS = 2, 10.0
 
@@ -75,7 +85,8 @@ def figures(report: dict, home: str = HOME_TEAM) -> dict[str, float]:
             "collisions_per_minute": float(report["collisions"]["per_minute"]),
             "fouls_per_minute": per_minute(fouls),
             "running_share": round(report["running_time_s"] / played, 4) if played > 0 else 0.0,
-            "running_time_s": float(report["running_time_s"]), "goals": float(goals)}
+            "running_time_s": float(report["running_time_s"]), "goals": float(goals), "shots": float(shots),
+            "collisions": float(report["collisions"]["total"]), "fouls": float(fouls)}
 
 
 def play_lockstep(seed: int, half_seconds: float) -> dict:
@@ -128,18 +139,31 @@ def _plain(x: float) -> float | None:
 
 def compare(lockstep: list[dict], ros: list[dict]) -> dict:
     """Per metric: mean and 95 % interval of each kind of match and whether the two intervals overlap."""
-    from nubot_match.statistics import mean_interval
-
     out = {}
     for metric, words in METRICS.items():
-        a = mean_interval([m[metric] for m in lockstep])
-        b = mean_interval([m[metric] for m in ros])
+        a, b = interval(lockstep, metric), interval(ros, metric)
         known = not any(math.isnan(x) for x in (a.low, a.high, b.low, b.high))
         out[metric] = {"description": words,
                        "lockstep": {k: _plain(v) for k, v in asdict(a).items()},
                        "ros": {k: _plain(v) for k, v in asdict(b).items()},
                        "intervals_overlap": (a.low <= b.high and b.low <= a.high) if known else None}
     return out
+
+
+def interval(matches: list[dict], metric: str) -> Interval:
+    """The mean of ``metric`` over ``matches`` with its 95 % interval: Student t over the matches; a figure per
+    minute takes in the exact Poisson interval of the matches' pooled count as well (the wider bounds of the two)."""
+    from nubot_match.statistics import Interval, mean_interval, rate_interval
+
+    t = mean_interval([m[metric] for m in matches])
+    count = RATES.get(metric)
+    minutes = sum(m["running_time_s"] for m in matches) / 60.0
+    if count is None or not minutes > 0.0:
+        return t
+    pooled = rate_interval(round(sum(m[count] for m in matches)), minutes)
+    low = pooled.low if math.isnan(t.low) else max(0.0, min(t.low, pooled.low))  # a rate is never below 0
+    high = pooled.high if math.isnan(t.high) else max(t.high, pooled.high)
+    return Interval(t.mean, low, high)
 
 
 def plot(comparison: dict, path: Path, title: str) -> None:
@@ -198,7 +222,9 @@ def main(argv: list[str] | None = None) -> int:
     comparison = compare(lockstep, complete)
     result = {"seeds": list(range(seeds)), "half_seconds": half, "halves": 2, "quick": args.quick,
               "real_time_factor": args.real_time_factor,
-              "confidence": 0.95, "interval": "Student t over the per-match values (nubot_match.statistics)",
+              "confidence": 0.95,
+              "interval": "Student t over the per-match values; per minute also the exact Poisson interval of the "
+                          "pooled count, the wider bounds (nubot_match.statistics)",
               "comparison": comparison, "lockstep_matches": lockstep, "ros_matches": ros,
               "ros_seeds_cut_short": [m["seed"] for m in ros if m["ended"] == "cut short"]}
     timing = [m for m in complete if m.get("missed_cycle_share") is not None]
