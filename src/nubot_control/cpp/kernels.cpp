@@ -9,8 +9,10 @@
 #include <string>
 
 #include "nubot_control/format.hpp"
+#include "nubot_control/motion.hpp"
 #include "nubot_control/mpc.hpp"
 #include "nubot_control/path_planning.hpp"
+#include "nubot_control/trajectory.hpp"
 
 namespace py = pybind11;
 using nubot_control::LaguerreMpc;
@@ -102,6 +104,19 @@ nubot_control::Bounds bounds_of(const py::handle& b) {
           b.attr("y_max").cast<double>()};
 }
 
+// A trajectory's sample times (n,) and (n, 2) rows of the same n, else std::invalid_argument.
+void require_samples(const Array& t, const Array& rows, const char* name) {
+  if (t.ndim() != 1 || t.shape(0) < 1) throw std::invalid_argument("t must be a vector of at least one sample time");
+  if (rows.ndim() != 2 || rows.shape(0) != t.shape(0) || rows.shape(1) != 2) {
+    throw std::invalid_argument(std::string(name) + " must be (n, 2) rows for the n = " + std::to_string(t.shape(0)) +
+                                " sample times");
+  }
+}
+
+Eigen::Map<const Eigen::VectorXd> as_vector(const Array& array) { return {array.data(), array.shape(0)}; }
+
+Eigen::Map<const nubot_control::Rows2> as_rows(const Array& array) { return {array.data(), array.shape(0), 2}; }
+
 py::list point_list(const std::vector<nubot_control::Vec2>& points) {
   py::list out;
   for (const auto& p : points) out.append(py::make_tuple(p.x(), p.y()));
@@ -163,6 +178,63 @@ PYBIND11_MODULE(_kernels, m) {
       },
       py::arg("path"), py::arg("ends"), py::arg("obstacles"), py::arg("margin"), py::arg("tolerance"),
       "Whether the path keeps the obstacles' clearances (see nubot_control.path_planning.keeps_clear).");
+
+  m.def(
+      "trajectory_states",
+      [](const Array& t, const Array& xy, const Array& v, const Array& times) {
+        require_samples(t, xy, "xy");
+        require_samples(t, v, "v");
+        if (times.ndim() != 1) throw std::invalid_argument("times must be a vector");
+        nubot_control::Rows2 out_xy, out_v;
+        nubot_control::trajectory_states(as_vector(t), as_rows(xy), as_rows(v), as_vector(times), out_xy, out_v);
+        return py::make_tuple(out_xy, out_v);
+      },
+      py::arg("t"), py::arg("xy"), py::arg("v"), py::arg("times"),
+      "Positions and velocities (m, 2) at the m times (see nubot_control.path_planning.Trajectory.states_at).");
+
+  m.def(
+      "within_accel",
+      [](const Array& t, const Array& v, double until, double accel, double rounding) {
+        require_samples(t, v, "v");
+        return nubot_control::within_accel(as_vector(t), as_rows(v), until, accel, rounding);
+      },
+      py::arg("t"), py::arg("v"), py::arg("until"), py::arg("accel"), py::arg("rounding"),
+      "Whether the velocity changes no faster than accel * (1 + rounding) up to the first sample after until.");
+
+  m.def(
+      "obstacle_table",
+      [](double mx, double my, const Array& goals, const py::iterable& obstacles, double robot_radius,
+         double clearance, double planning_range) {
+        if (goals.ndim() != 2 || goals.shape(1) != 3) throw std::invalid_argument("goals must be (k, 3) rows");
+        std::vector<nubot_control::Sighting> sightings;
+        for (const py::handle o : obstacles) {
+          const auto refuse = [&o]() {
+            return std::invalid_argument("an obstacle is (x, y) or (x, y, keep) in numbers, got " +
+                                         std::string(py::repr(o)));
+          };
+          if (!py::isinstance<py::sequence>(o)) throw refuse();
+          const auto row = py::reinterpret_borrow<py::sequence>(o);
+          const auto size = py::len(row);
+          if (size < 2) throw refuse();
+          try {
+            sightings.push_back({py::float_(row[0]).cast<double>(), py::float_(row[1]).cast<double>(),
+                                 size > 2 ? py::float_(row[2]).cast<double>() : 0.0, size > 2});
+          } catch (const py::error_already_set&) {
+            throw refuse();
+          }
+        }
+        std::vector<double> table;
+        table.reserve(3 * (goals.shape(0) + sightings.size()));
+        nubot_control::obstacle_table(mx, my, Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+                                                  goals.data(), goals.shape(0), 3),
+                                      sightings, robot_radius, clearance, planning_range, table);
+        Array out({static_cast<py::ssize_t>(table.size() / 3), py::ssize_t{3}});
+        std::copy(table.begin(), table.end(), out.mutable_data());
+        return out;
+      },
+      py::arg("mx"), py::arg("my"), py::arg("goals"), py::arg("obstacles"), py::arg("robot_radius"),
+      py::arg("clearance"), py::arg("planning_range"),
+      "The planner's obstacle table (k, 3) (see nubot_control.motion.MotionController).");
 
   m.def("laguerre_basis", &nubot_control::laguerre_basis, py::arg("pole"), py::arg("terms"), py::arg("steps"),
         "Discrete Laguerre functions: row i is L(i)^T, shape (steps, terms).");

@@ -33,22 +33,28 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from nubot_common.geometry import Pose2D, rotate, wrap_angle
+from nubot_common.kernels import load_kernels
 from nubot_common.world_description import WorldDescription
 from nubot_control.areas import Rect, stay_out
 from nubot_control.mpc import LaguerreMpc, MpcParams
 from nubot_control.params import MotionParams
-from nubot_control.path_planning import Bounds, Disc, PlannerParams, Trajectory, keeps_clear, plan
+from nubot_control.path_planning import Bounds, PlannerParams, Trajectory, keeps_clear, plan
+
+if TYPE_CHECKING:
+    from nubot_control import _kernels  # its interface: _kernels.pyi
+else:
+    _kernels = load_kernels("nubot_control")
 
 _MAX_DETOURS = 3
 _IN_THE_WAY = 0.3  # a robot is in the way of a velocity whose line passes it closer than min_distance plus this [m]
 # A plan whose remaining path enters an obstacle's clearance by more than this is replaced [m]; the planner
 # itself leaves violations of a few millimetres (kTolerance in cpp/path_planning.cpp), which must not force a replan.
 _INTRUSION_TOLERANCE = 0.01
-_ACCEL_ROUNDING = 1e-9  # a plan's acceleration may exceed the limit it was made under by this share (rounding)
 
 
 def _segment_distance(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
@@ -127,6 +133,16 @@ def keep_clear(position: tuple[float, float], velocity: tuple[float, float], rob
     return vx, vy
 
 
+def obstacle_table(position: tuple[float, float], obstacles: Sequence[tuple[float, ...]], goals: np.ndarray,
+                   robot_radius: float, clearance: float, planning_range: float) -> np.ndarray:
+    """The planner's obstacles this cycle as (k, 3) rows (x, y, radius) [m]: the ``goals``' rows, then each obstacle
+    (a robot's (x, y): the robot radius; an (x, y, keep) whose centre must stay ``keep`` from the robot's: the disc
+    that leaves that, max(0, keep - robot_radius - clearance)), only the rows within ``planning_range`` of
+    ``position``. A NaN or infinite obstacle raises ValueError naming the field. Compiled (``cpp/motion.cpp``)."""
+    return _kernels.obstacle_table(float(position[0]), float(position[1]), goals, obstacles, float(robot_radius),
+                                   float(clearance), float(planning_range))
+
+
 def dribble_scale(bx: float, by: float, p: MotionParams) -> float:
     """The factor (at most 1) that brings the body velocity (bx ahead, by left [m/s]) within what the ball handler
     keeps: ``dribble_speed`` forwards, ``dribble_back_speed`` backwards, ``dribble_side_speed`` sideways."""
@@ -154,8 +170,9 @@ class MotionController:
                              -field.half_width - margin, field.half_width + margin)
         # The goals as obstacles: posts and nets, points closer than a robot can pass between (a robot beside or
         # behind a goal must go round it, not plan through its side net)
-        self.goal_table = [(x, y, field.post_radius) for side in (1, -1)
-                           for x, y in field.goal_frame(side, spacing=self.robot_radius)]  # (x, y, radius) [m]
+        self.goal_table = np.array([(x, y, field.post_radius) for side in (1, -1)
+                                    for x, y in field.goal_frame(side, spacing=self.robot_radius)]).reshape(-1, 3)
+        self.goal_table.setflags(write=False)  # (x, y, radius) rows [m]
         self.mpc = LaguerreMpc(MpcParams(dt=dt, max_speed=params.max_speed, max_accel=params.max_accel)) \
             if params.tracker == "mpc" else None
         self.trajectory: Trajectory | None = None  # the plan being tracked (mpc), its time 0 is the last cycle
@@ -242,20 +259,14 @@ class MotionController:
         return tuple(self._waypoints)
 
     # --- mpc: replan when the plan no longer holds, then track ---------------------------------
-    def _obstacle_table(self, me: Pose2D, obstacles: Sequence[tuple[float, ...]]) -> list[tuple[float, float, float]]:
-        """The goals (posts and nets) and obstacles within planning_range as (x, y, radius) [m], the goals first."""
+    def _obstacle_table(self, me: Pose2D, obstacles: Sequence[tuple[float, ...]]) -> np.ndarray:
+        """The goals (posts and nets) and obstacles within planning_range as (x, y, radius) rows [m], the goals
+        first (``obstacle_table``)."""
         p = self.params
-        table = list(self.goal_table)
-        for o in obstacles:
-            if len(o) > 2:  # keep the centre o[2] away: a disc that gives that clearance
-                table.append((o[0], o[1], max(0.0, o[2] - self.robot_radius - p.clearance)))
-            else:
-                table.append((o[0], o[1], self.robot_radius))
-            if not all(math.isfinite(v) for v in table[-1]):
-                Disc(*table[-1])  # raises the planner's ValueError, which names the bad value
-        return [d for d in table if math.hypot(d[0] - me.x, d[1] - me.y) < p.planning_range]
+        return obstacle_table((me.x, me.y), obstacles, self.goal_table, self.robot_radius, p.clearance,
+                              p.planning_range)
 
-    def _plan_holds(self, me: Pose2D, goals: list[tuple[float, float]], table: list[tuple[float, float, float]],
+    def _plan_holds(self, me: Pose2D, goals: list[tuple[float, float]], table: np.ndarray,
                     limits: tuple[float, float]) -> bool:
         """Whether the plan being tracked may be kept this cycle (see ``MotionParams.keep_plan_*``)."""
         p, trajectory = self.params, self.trajectory
@@ -271,7 +282,7 @@ class MotionController:
         ref, _ = trajectory.state_at(self._plan_age)
         if math.hypot(float(ref[0]) - me.x, float(ref[1]) - me.y) > p.keep_plan_deviation:
             return False
-        if not table:
+        if len(table) == 0:
             return True
         first = max(int(np.searchsorted(trajectory.t, self._plan_age, side="right")) - 1, 0)
         return keeps_clear(trajectory.xy[first:], [(me.x, me.y), *goals], table, self.robot_radius + p.clearance,
@@ -299,7 +310,7 @@ class MotionController:
                         max_accel=min(accel, mpc.params.max_accel))
         return float(u[0]), float(u[1])
 
-    def _replan(self, me: Pose2D, goals: list[tuple[float, float]], table: list[tuple[float, float, float]],
+    def _replan(self, me: Pose2D, goals: list[tuple[float, float]], table: np.ndarray,
                 limit: float, accel: float) -> None:
         """A new plan, made now: from where the last plan has the robot when it is on track, else from the robot."""
         p = self.params
@@ -314,8 +325,7 @@ class MotionController:
         planner = PlannerParams(robot_radius=self.robot_radius, safety_margin=p.clearance,
                                 max_speed=limit * p.plan_share, max_accel=accel * p.plan_share,
                                 max_lateral_accel=p.max_lateral_accel * p.plan_share)
-        self.trajectory = plan(start, goals, [Disc(x, y, r) for x, y, r in table], planner, self.bounds,
-                               start_velocity=start_velocity)
+        self.trajectory = plan(start, goals, table, planner, self.bounds, start_velocity=start_velocity)
         self._plan_goals, self._plan_limits, self._plan_age = given, (limit, accel), 0.0
         self._plan_keepable = self._within_accel(self.trajectory, accel)
 
@@ -323,14 +333,7 @@ class MotionController:
         """Whether the robot can follow the plan for as long as it may be kept: its acceleration [m/s^2] stays
         within ``accel``. A plan from a fast start can turn harder than that at first (its speed profile cannot
         brake the start); replanned every cycle, it is bent into one the robot can follow."""
-        soon = int(np.searchsorted(trajectory.t, self.params.keep_plan_time, side="right")) + 1
-        t, v = trajectory.t[:soon], trajectory.v[:soon]
-        if len(t) < 2:
-            return True
-        dv = np.diff(v, axis=0)
-        # a plan at the limit itself (plan_share 1) reaches it to within rounding: that is within it
-        reach = accel * (1.0 + _ACCEL_ROUNDING) * np.diff(t)
-        return bool((np.einsum("ij,ij->i", dv, dv) <= reach * reach).all())
+        return trajectory.followable(self.params.keep_plan_time, accel)
 
     @staticmethod
     def _ahead(start: tuple[float, float], velocity: tuple[float, float],

@@ -23,9 +23,7 @@ module holds the planner's parameters, its inputs' types, the ``Trajectory`` it 
 
 from __future__ import annotations
 
-import bisect
 import dataclasses
-import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -42,6 +40,7 @@ else:
     _kernels = load_kernels("nubot_control")
 
 Point = tuple[float, float]
+ACCEL_ROUNDING = 1e-9  # a plan's acceleration may exceed the limit it was made under by this share (rounding)
 
 
 
@@ -120,17 +119,20 @@ def clearance(obstacle: Disc, params: PlannerParams) -> float:
     return params.robot_radius + obstacle.radius + params.safety_margin
 
 
-def _disc_table(obstacles: Sequence[Disc]) -> np.ndarray:
-    """The obstacles as (k, 3) rows (x, y, radius) [m]."""
+def _disc_table(obstacles: Sequence[Disc] | np.ndarray) -> np.ndarray:
+    """The obstacles as (k, 3) rows (x, y, radius) [m]; a table of such rows is taken as it is (the compiled planner
+    checks its rows as Disc does)."""
+    if isinstance(obstacles, np.ndarray):
+        return obstacles
     return np.array([(o.x, o.y, o.radius) for o in obstacles], dtype=float).reshape(-1, 3)
 
 
-def keeps_clear(path: np.ndarray, ends: Sequence[Point], obstacles: Sequence[tuple[float, float, float]],
+def keeps_clear(path: np.ndarray, ends: Sequence[Point], obstacles: Sequence[tuple[float, float, float]] | np.ndarray,
                 margin: float, tolerance: float) -> bool:
     """Whether every point of ``path`` ((n, 2) [m]) stays ``margin`` + radius - ``tolerance`` [m] or farther from
     the centre of each obstacle ((x, y, radius) [m]) whose margin + radius holds none of ``ends`` (the robot and its
     waypoints: as the planner does, an obstacle holding one is not avoided). Compiled (``cpp/path_planning.cpp``)."""
-    if not obstacles:
+    if len(obstacles) == 0:
         return True
     return bool(_kernels.keeps_clear(path, ends, np.asarray(obstacles, dtype=float).reshape(-1, 3), float(margin),
                                      float(tolerance)))
@@ -171,54 +173,29 @@ class Trajectory:
     def length(self) -> float:
         return float(self.s[-1])
 
-    @functools.cached_property
-    def speed(self) -> np.ndarray:
-        """(n,) speed at each sample [m/s] (computed once: the trajectory is read every cycle it is tracked)."""
-        speed = np.hypot(self.v[:, 0], self.v[:, 1])
-        speed.setflags(write=False)
-        return speed
-
     def states_at(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Positions (m, 2) and velocities (m, 2) at the given times; before 0 the start state, after the end the
-        end state (standing still when end_speed was 0).
+        """Positions (..., 2) and velocities (..., 2) at the given times; before 0 the start state, after the end
+        the end state (standing still when end_speed was 0).
 
         Between two samples the velocity is interpolated linearly in time (the profile's constant acceleration)
         and the position along the step by the distance covered at that acceleration, so that positions and
-        velocities agree even where the samples are far apart in time (starting from rest)."""
+        velocities agree even where the samples are far apart in time (starting from rest). Compiled
+        (``cpp/trajectory.cpp``)."""
         times = np.asarray(times, dtype=float)
-        if len(self.t) == 1:
-            shape = times.shape + (2,)
-            return np.broadcast_to(self.xy[0], shape).copy(), np.broadcast_to(self.v[0], shape).copy()
-        # minimum/maximum instead of np.clip: the same numbers at a fraction of np.clip's call overhead
-        clipped = np.minimum(np.maximum(times, 0.0), self.t[-1])
-        i = np.minimum(np.maximum(np.searchsorted(self.t, clipped, side="right") - 1, 0), len(self.t) - 2)
-        frac = (clipped - self.t[i]) / (self.t[i + 1] - self.t[i])
-        speed = self.speed
-        v0, v1 = speed[i], speed[i + 1]
-        along = frac * (2.0 * v0 + (v1 - v0) * frac) / np.maximum(v0 + v1, 1e-12)  # share of the step covered
-        xy = self.xy[i] + along[..., None] * (self.xy[i + 1] - self.xy[i])
-        v = self.v[i] + frac[..., None] * (self.v[i + 1] - self.v[i])
-        return xy, v
-
-    @functools.cached_property
-    def _rows(self) -> tuple[list[float], list[list[float]], list[list[float]], list[float]]:
-        """t, xy, v and speed as Python lists, for ``state_at``."""
-        return self.t.tolist(), self.xy.tolist(), self.v.tolist(), self.speed.tolist()
+        xy, v = _kernels.trajectory_states(self.t, self.xy, self.v, times.reshape(-1))
+        shape = times.shape + (2,)
+        return xy.reshape(shape), v.reshape(shape)
 
     def state_at(self, time: float) -> tuple[np.ndarray, np.ndarray]:
-        """Position (2,) and velocity (2,) at ``time`` [s]: ``states_at`` for one time, in plain floats (it runs
-        several times a cycle, where numpy's per-call overhead outweighs the arithmetic)."""
-        t, xy, v, speed = self._rows
-        if len(t) == 1:
-            return np.array(xy[0]), np.array(v[0])
-        clipped = min(max(float(time), 0.0), t[-1])
-        i = min(max(bisect.bisect_right(t, clipped) - 1, 0), len(t) - 2)
-        frac = (clipped - t[i]) / (t[i + 1] - t[i])
-        v0, v1 = speed[i], speed[i + 1]
-        along = frac * (2.0 * v0 + (v1 - v0) * frac) / max(v0 + v1, 1e-12)
-        (x0, y0), (x1, y1), (vx0, vy0), (vx1, vy1) = xy[i], xy[i + 1], v[i], v[i + 1]
-        return (np.array((x0 + along * (x1 - x0), y0 + along * (y1 - y0))),
-                np.array((vx0 + frac * (vx1 - vx0), vy0 + frac * (vy1 - vy0))))
+        """Position (2,) and velocity (2,) at ``time`` [s]: ``states_at`` for one time."""
+        xy, v = _kernels.trajectory_states(self.t, self.xy, self.v, np.array((time,), dtype=float))
+        return xy[0], v[0]
+
+    def followable(self, until: float, accel: float) -> bool:
+        """Whether a robot can follow the trajectory up to the first sample after ``until`` [s]: its velocity
+        changes no faster than ``accel`` [m/s^2] (a plan made at that limit reaches it to within rounding, which
+        counts as within it). Compiled (``cpp/trajectory.cpp``)."""
+        return bool(_kernels.within_accel(self.t, self.v, float(until), float(accel), ACCEL_ROUNDING))
 
     def min_clearance(self, obstacles: Sequence[Disc]) -> float:
         """Smallest distance from any sample to any obstacle centre minus that obstacle's radius (inf if none)."""
@@ -235,7 +212,7 @@ def _trajectory(t: np.ndarray, s: np.ndarray, xy: np.ndarray, v: np.ndarray, via
     return Trajectory(t, s, xy, v, via)
 
 
-def plan(start: Point, waypoints: Sequence[Point], obstacles: Sequence[Disc], params: PlannerParams,
+def plan(start: Point, waypoints: Sequence[Point], obstacles: Sequence[Disc] | np.ndarray, params: PlannerParams,
          bounds: Bounds, start_velocity: Point = (0.0, 0.0), end_speed: float = 0.0) -> Trajectory:
     """Route start -> (subtargets) -> waypoints[0] -> (subtargets) -> ... -> waypoints[-1] (the goal), cubic
     B-spline through it, adjusted to keep clearances and bounds, time-parameterised from |start_velocity|
@@ -246,7 +223,7 @@ def plan(start: Point, waypoints: Sequence[Point], obstacles: Sequence[Disc], pa
     (e.g. goal == start), the trajectory is one sample standing still. Waypoints outside the bounds are clamped
     into them; samples are kept inside the bounds (widened to include the start, if the robot is outside).
     Obstacles whose clearance contains the start or a waypoint are not avoided (the robot must leave or reach
-    them).
+    them). ``obstacles``: Discs, or their (k, 3) table of (x, y, radius) rows.
     """
     t, s, xy, v, via = _kernels.plan(start, waypoints, _disc_table(obstacles), params, bounds, start_velocity,
                                      float(end_speed))

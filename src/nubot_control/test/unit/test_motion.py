@@ -1,6 +1,7 @@
 """Unit tests of the motion layer (both trackers) on a kinematic robot: targets, limits, obstacles, waypoints."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -10,7 +11,7 @@ from nubot_common.geometry import Pose2D, rotate
 from nubot_common.percepts import RobotReport
 from nubot_common.world_description import WorldDescription
 from nubot_common.world_state import FusedBall, GameState, LabelledObstacle, ObstacleLabel, Teammate, WorldState
-from nubot_control.motion import MotionController, keep_clear, sub_target
+from nubot_control.motion import MotionController, keep_clear, obstacle_table, sub_target
 from nubot_control.params import MotionParams
 from nubot_control.team_state import MAX_PREDICTION, team_state
 
@@ -378,3 +379,40 @@ def test_the_goal_frame_is_points_along_the_posts_and_nets_closer_than_the_spaci
                    for x, _ in frame)
     with pytest.raises(ValueError, match="spacing must be positive"):
         field.goal_frame(1, 0.0)
+
+
+TABLE_GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "table.npz"
+
+
+def test_the_compiled_obstacle_table_gives_its_golden_tables():
+    """The planner's obstacles as the motion layer made them in 3 seeded lockstep matches of 30 s (``python -m
+    nubot_tools.golden table``), recorded from the Python implementation the compiled one replaced: the same rows in
+    the same order, exactly (the same arithmetic)."""
+    with np.load(TABLE_GOLDEN) as archive:
+        trace = dict(archive)
+
+    def rows(name, i):
+        offsets = trace[f"{name}_offsets"]
+        return trace[name][offsets[i]:offsets[i + 1]]
+
+    kept_rows = 0
+    for i, (mx, my, radius, clearance, planning_range) in enumerate(trace["scalars"]):
+        given = [(x, y, keep) if kept else (x, y) for x, y, keep, kept in rows("obstacles", i).tolist()]
+        kept_rows += sum(len(o) == 3 for o in given)
+        table = obstacle_table((mx, my), given, rows("goals", i), radius, clearance, planning_range)
+        np.testing.assert_array_equal(table, rows("table", i), err_msg=f"table {i}")
+    assert kept_rows > 0, "the trace must hold obstacles with a distance of their own"
+
+
+def test_the_obstacle_table_refuses_what_is_no_obstacle():
+    goals = np.zeros((0, 3))
+    table = obstacle_table((0.0, 0.0), [(1.0, 0.0), (2.0, 0.0, 1.0)], goals, 0.26, 0.25, 8.0)
+    np.testing.assert_allclose(table, [[1.0, 0.0, 0.26], [2.0, 0.0, 0.49]], atol=1e-12)  # a robot; a kept distance
+    assert obstacle_table((0.0, 0.0), [(9.0, 0.0)], goals, 0.26, 0.25, 8.0).shape == (0, 3), "beyond the range"
+    with pytest.raises(ValueError, match="obstacle y must be finite, got nan"):
+        obstacle_table((0.0, 0.0), [(1.0, math.nan)], goals, 0.26, 0.25, 8.0)
+    with pytest.raises(ValueError, match="obstacle radius must be finite, got inf"):
+        obstacle_table((0.0, 0.0), [(1.0, 0.0, math.inf)], goals, 0.26, 0.25, 8.0)
+    for bad in ([(1.0,)], [3.0], [("a", 1.0)]):
+        with pytest.raises(ValueError, match=r"an obstacle is \(x, y\) or \(x, y, keep\) in numbers"):
+            obstacle_table((0.0, 0.0), bad, goals, 0.26, 0.25, 8.0)

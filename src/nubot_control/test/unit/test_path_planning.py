@@ -7,7 +7,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from nubot_control.path_planning import Bounds, Disc, PlannerParams, clearance, keeps_clear, plan, subtargets
+from nubot_control.path_planning import (
+    Bounds,
+    Disc,
+    PlannerParams,
+    _trajectory,
+    clearance,
+    keeps_clear,
+    plan,
+    subtargets,
+)
 
 P = PlannerParams()
 FIELD = Bounds(-11.0, 11.0, -7.0, 7.0)
@@ -371,3 +380,78 @@ def test_the_compiled_planner_refuses_an_obstacle_its_python_checks_would_have_r
     kernels = load_kernels("nubot_control")
     with pytest.raises(ValueError, match="obstacle 1 must be finite with a radius not negative"):
         kernels.plan((0.0, 0.0), [(3.0, 0.0)], np.array([(1.0, 1.0, 0.26), row]), P, FIELD, (0.0, 0.0), 0.0)
+
+
+STATES_GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "states.npz"
+
+
+def _golden_rows(trace, name, i):
+    offsets = trace[f"{name}_offsets"]
+    return trace[name][offsets[i]:offsets[i + 1]]
+
+
+def test_the_compiled_trajectory_reads_back_its_golden_states():
+    """Calls of ``states_at`` (the MPC's reference over its horizon) and ``state_at`` (where the plan has the robot
+    now) recorded from the numpy implementation the compiled one replaced (3 seeded lockstep matches of 30 s,
+    ``python -m nubot_tools.golden states``): the same positions and velocities to 1e-12 m and m/s (the same
+    arithmetic in the same order; 1e-12 leaves room for a compiler's other rounding)."""
+    with np.load(STATES_GOLDEN) as archive:
+        trace = dict(archive)
+    singles = 0
+    for i, single in enumerate(trace["single"]):
+        t = _golden_rows(trace, "t", i).reshape(-1)
+        tr = _trajectory(t, np.zeros_like(t), _golden_rows(trace, "xy", i), _golden_rows(trace, "v", i), ())
+        times = _golden_rows(trace, "times", i).reshape(-1)
+        if single:
+            xy, v = tr.state_at(float(times[0]))
+            xy, v = xy.reshape(1, 2), v.reshape(1, 2)
+            singles += 1
+        else:
+            xy, v = tr.states_at(times)
+        np.testing.assert_allclose(xy, _golden_rows(trace, "out_xy", i), rtol=0.0, atol=1e-12, err_msg=f"call {i}")
+        np.testing.assert_allclose(v, _golden_rows(trace, "out_v", i), rtol=0.0, atol=1e-12, err_msg=f"call {i}")
+    assert 0 < singles < len(trace["single"]), "the trace must hold both kinds of call"
+
+
+def test_a_trajectory_s_states_keep_the_shape_of_the_times_asked_for_and_refuse_bad_samples():
+    tr = plan((0.0, 0.0), [(3.0, 0.0)], [], P, FIELD)
+    xy, v = tr.states_at(np.linspace(0.0, 1.0, 6).reshape(2, 3))
+    assert xy.shape == v.shape == (2, 3, 2)
+    assert tr.states_at(0.2)[0].shape == (2,)
+    from nubot_common.kernels import load_kernels
+
+    kernels = load_kernels("nubot_control")
+    with pytest.raises(ValueError, match=r"xy must be \(n, 2\) rows for the n = 3 sample times"):
+        kernels.trajectory_states(np.zeros(3), np.zeros((2, 2)), np.zeros((3, 2)), np.zeros(1))
+    with pytest.raises(ValueError, match="t must be a vector of at least one sample time"):
+        kernels.trajectory_states(np.zeros(0), np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(1))
+
+
+ACCEL_GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "accel.npz"
+
+
+def test_the_compiled_acceleration_check_gives_its_golden_answers():
+    """Whether a new plan can be followed (its velocity changing no faster than the limit over the part that may be
+    kept), as the motion layer asked it of plans in 3 seeded lockstep matches of 30 s (``python -m nubot_tools.golden
+    accel``), half followable and half not, recorded from the numpy implementation: the same answer for each."""
+    with np.load(ACCEL_GOLDEN) as archive:
+        trace = dict(archive)
+    answers = []
+    for i, (until, accel, expected) in enumerate(trace["scalars"]):
+        samples = _golden_rows(trace, "samples", i)
+        t = np.ascontiguousarray(samples[:, 0])
+        tr = _trajectory(t, np.zeros_like(t), np.zeros((len(t), 2)), np.ascontiguousarray(samples[:, 1:3]), ())
+        got = tr.followable(until, accel)
+        assert got == bool(expected), f"check {i}"
+        answers.append(got)
+    assert 0 < sum(answers) < len(answers), "the trace must hold both answers"
+
+
+def test_a_plan_that_turns_harder_than_the_limit_at_its_start_is_not_followable():
+    t = np.array([0.0, 0.1, 0.2, 0.3, 0.9])
+    straight = np.array([(1.0, 0.0), (1.2, 0.0), (1.4, 0.0), (1.6, 0.0), (0.0, 5.0)])
+    tr = _trajectory(t, np.zeros_like(t), np.zeros((5, 2)), straight, ())
+    assert tr.followable(0.25, 2.0 + 1e-12)  # 2 m/s^2 up to the first sample after 0.25 s; the jump later is not read
+    assert not tr.followable(0.25, 1.9)
+    assert not tr.followable(0.3, 2.0), "the first sample after 0.3 s is the jump's end"
+    assert _trajectory(t[:1], t[:1], np.zeros((1, 2)), straight[:1], ()).followable(0.5, 0.1)

@@ -9,6 +9,18 @@ and every ``--every``-th sample's time, arc length, position and velocity (the l
 ``python -m nubot_tools.golden clear --out FILE`` records ``path_planning.keeps_clear`` (whether a plan being kept
 still keeps the obstacles' clearances) as the motion layer calls it, half of the calls kept clear, half not.
 
+``python -m nubot_tools.golden states --out FILE`` records ``Trajectory.states_at`` (the MPC's reference over its
+horizon) and ``Trajectory.state_at`` (where the plan has the robot now) as the motion layer calls them: the
+trajectory's samples (t, xy, v), the times asked for and the positions and velocities given.
+
+``python -m nubot_tools.golden accel --out FILE`` records ``MotionController._within_accel`` (whether a new plan can be
+followed), half of the calls followable, half not: the plan's first samples (up to three past the part that may be
+kept), the limit and the answer.
+
+``python -m nubot_tools.golden table --out FILE`` records ``MotionController._obstacle_table`` (the planner's
+obstacles this cycle): the robot, the obstacles it was given ((x, y) or (x, y, keep)), the goals' rows, the
+parameters and the table.
+
 ``python -m nubot_tools.golden labels --out FILE`` records ``--calls`` of the world models' ``label_obstacles`` calls
 (their inputs and the labelled obstacles they gave).
 
@@ -27,6 +39,7 @@ import dataclasses
 import json
 import math
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -106,24 +119,36 @@ def _ragged(rows: list[np.ndarray], width: int) -> tuple[np.ndarray, np.ndarray]
 
 def record_calls(module: Any, name: str, seeds: list[int], seconds: float,
                  calls: int) -> tuple[list[tuple[tuple, dict, Any]], list[int]]:
-    """Every call of the function ``module.name`` during the matches, as (args, kwargs, result), and which
-    ``calls`` of them to keep (drawn with the seeded generator, in order)."""
-    recorded: list[tuple[tuple, dict, Any]] = []
-    original = getattr(module, name)
-
-    def recording(*args: Any, **kwargs: Any) -> Any:
-        result = original(*args, **kwargs)
-        recorded.append((args, kwargs, result))
-        return result
-
-    setattr(module, name, recording)
-    try:
-        play(seeds, seconds)
-    finally:
-        setattr(module, name, original)
+    """Every call of the function ``module.name`` (or the method, when ``module`` is a class: ``self`` first) during
+    the matches, as (args, kwargs, result), and which ``calls`` of them to keep (drawn with the seeded generator, in
+    order)."""
+    recorded = record_many(module, [name], seeds, seconds)[name]
     rng = np.random.default_rng(0)
     kept = sorted(int(i) for i in rng.choice(len(recorded), size=min(calls, len(recorded)), replace=False))
     return recorded, kept
+
+
+def record_many(owner: Any, names: list[str], seeds: list[int],
+                seconds: float) -> dict[str, list[tuple[tuple, dict, Any]]]:
+    """Every call of each of ``owner``'s functions (or methods) ``names`` during one set of matches."""
+    recorded: dict[str, list[tuple[tuple, dict, Any]]] = {name: [] for name in names}
+    originals = {name: getattr(owner, name) for name in names}
+
+    def recorder(name: str) -> Callable[..., Any]:
+        def recording(*args: Any, **kwargs: Any) -> Any:
+            result = originals[name](*args, **kwargs)
+            recorded[name].append((args, kwargs, result))
+            return result
+        return recording
+
+    for name in names:
+        setattr(owner, name, recorder(name))
+    try:
+        play(seeds, seconds)
+    finally:
+        for name, original in originals.items():
+            setattr(owner, name, original)
+    return recorded
 
 
 def record_plan(seeds: list[int], seconds: float, calls: int, every: int) -> dict[str, np.ndarray]:
@@ -164,12 +189,7 @@ def record_clear(seeds: list[int], seconds: float, calls: int) -> dict[str, np.n
     from nubot_control import motion
 
     recorded, _ = record_calls(motion, "keeps_clear", seeds, seconds, 0)
-    rng = np.random.default_rng(0)
-    kept: list[int] = []
-    for answer in (True, False):
-        which = [i for i, (_, _, result) in enumerate(recorded) if result is answer]
-        kept += [int(i) for i in rng.choice(which, size=min(calls // 2, len(which)), replace=False)]
-    kept.sort()
+    kept = _halves(recorded, bool, calls)
     print(f"golden: {len(recorded)} checks ({sum(r for _, _, r in recorded)} clear), {len(kept)} kept",
           file=sys.stderr)
     paths, ends, obstacles, scalars = [], [], [], []
@@ -181,6 +201,83 @@ def record_clear(seeds: list[int], seconds: float, calls: int) -> dict[str, np.n
         scalars.append((margin, tolerance, float(result)))
     trace = {"scalars": np.array(scalars).reshape(-1, 3)}
     for name, rows, width in (("path", paths, 2), ("ends", ends, 2), ("obstacles", obstacles, 3)):
+        trace[name], trace[f"{name}_offsets"] = _ragged(rows, width)
+    return trace
+
+
+def _halves(recorded: list[tuple[tuple, dict, Any]], answer: Callable[[Any], bool], calls: int) -> list[int]:
+    """Up to ``calls`` / 2 of the calls whose result gives each answer, drawn with the seeded generator, in order."""
+    rng = np.random.default_rng(0)
+    kept: list[int] = []
+    for wanted in (True, False):
+        which = [i for i, (_, _, result) in enumerate(recorded) if answer(result) is wanted]
+        kept += [int(i) for i in rng.choice(which, size=min(calls // 2, len(which)), replace=False)]
+    return sorted(kept)
+
+
+def record_states(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
+    """``Trajectory.states_at`` and ``Trajectory.state_at`` as the motion layer calls them: ``--calls`` / 2 of each
+    (drawn with the seeded generator), each with the trajectory's samples, the times and the states given."""
+    from nubot_control.path_planning import Trajectory
+
+    rows: dict[str, list[np.ndarray]] = {"t": [], "xy": [], "v": [], "times": [], "out_xy": [], "out_v": []}
+    single: list[float] = []
+    rng = np.random.default_rng(0)
+    for name, recorded in record_many(Trajectory, ["states_at", "state_at"], seeds, seconds).items():
+        kept = sorted(int(i) for i in rng.choice(len(recorded), size=min(calls // 2, len(recorded)), replace=False))
+        print(f"golden: {len(recorded)} {name} calls, {len(kept)} kept", file=sys.stderr)
+        for i in kept:
+            (trajectory, times), _, (xy, v) = recorded[i]
+            for key, value in (("t", trajectory.t), ("xy", trajectory.xy), ("v", trajectory.v),
+                               ("times", np.atleast_1d(np.asarray(times, dtype=float))),
+                               ("out_xy", np.asarray(xy).reshape(-1, 2)), ("out_v", np.asarray(v).reshape(-1, 2))):
+                rows[key].append(np.asarray(value, dtype=float))
+            single.append(float(name == "state_at"))
+    trace = {"single": np.array(single)}
+    for key, width in (("t", 1), ("xy", 2), ("v", 2), ("times", 1), ("out_xy", 2), ("out_v", 2)):
+        trace[key], trace[f"{key}_offsets"] = _ragged(rows[key], width)
+    return trace
+
+
+def record_accel(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
+    """``MotionController._within_accel`` on new plans: up to ``--calls`` / 2 of each answer, each with the plan's
+    samples up to three past the first after ``keep_plan_time`` (all the check reads), the limit and the answer."""
+    from nubot_control.motion import MotionController
+
+    recorded, _ = record_calls(MotionController, "_within_accel", seeds, seconds, 0)
+    kept = _halves(recorded, bool, calls)
+    print(f"golden: {len(recorded)} acceleration checks ({sum(bool(r) for *_, r in recorded)} followable), "
+          f"{len(kept)} kept", file=sys.stderr)
+    samples, scalars = [], []
+    for i in kept:
+        (motion, trajectory, accel), _, result = recorded[i]
+        until = motion.params.keep_plan_time
+        end = int(np.searchsorted(trajectory.t, until, side="right")) + 4
+        samples.append(np.column_stack((trajectory.t[:end], trajectory.v[:end])))
+        scalars.append((until, accel, float(result)))
+    trace = {"scalars": np.array(scalars).reshape(-1, 3)}
+    trace["samples"], trace["samples_offsets"] = _ragged(samples, 3)
+    return trace
+
+
+def record_table(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
+    """``MotionController._obstacle_table``: ``--calls`` of its calls (drawn with the seeded generator), each with the
+    robot's position, its obstacles as (x, y, keep, kept) rows (kept 0: a robot's (x, y)), the goals' rows, the
+    robot radius, clearance and planning range, and the table given."""
+    from nubot_control.motion import MotionController
+
+    recorded, kept = record_calls(MotionController, "_obstacle_table", seeds, seconds, calls)
+    print(f"golden: {len(recorded)} obstacle tables, {len(kept)} kept", file=sys.stderr)
+    given, goals, tables, scalars = [], [], [], []
+    for i in kept:
+        (motion, me, obstacles), _, table = recorded[i]
+        given.append(np.array([(o[0], o[1], o[2], 1.0) if len(o) > 2 else (o[0], o[1], 0.0, 0.0)
+                               for o in obstacles], dtype=float).reshape(-1, 4))
+        goals.append(np.array(motion.goal_table, dtype=float).reshape(-1, 3))
+        tables.append(np.array(table, dtype=float).reshape(-1, 3))
+        scalars.append((me.x, me.y, motion.robot_radius, motion.params.clearance, motion.params.planning_range))
+    trace = {"scalars": np.array(scalars).reshape(-1, 5)}
+    for name, rows, width in (("obstacles", given, 4), ("goals", goals, 3), ("table", tables, 3)):
         trace[name], trace[f"{name}_offsets"] = _ragged(rows, width)
     return trace
 
@@ -271,12 +368,12 @@ def record_labels(seeds: list[int], seconds: float, calls: int) -> dict[str, np.
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("mpc", "plan", "obstacles", "labels", "clear"))
+    ap.add_argument("piece", choices=("mpc", "plan", "obstacles", "labels", "clear", "states", "accel", "table"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
     ap.add_argument("--per-status", type=int, default=500, help="mpc: calls kept of each way a command was found")
-    ap.add_argument("--calls", type=int, default=600, help="plan, labels, clear: calls kept")
+    ap.add_argument("--calls", type=int, default=600, help="plan, labels, clear, states, accel, table: calls kept")
     ap.add_argument("--every", type=int, default=8, help="plan: every n-th sample of a trajectory kept")
     ap.add_argument("--trackers", type=int, default=3, help="obstacles: robots whose tracker is kept")
     args = ap.parse_args(argv)
@@ -291,6 +388,12 @@ def main(argv: list[str] | None = None) -> int:
         trace = record_labels(seeds, args.seconds, args.calls)
     elif args.piece == "clear":
         trace = record_clear(seeds, args.seconds, args.calls)
+    elif args.piece == "states":
+        trace = record_states(seeds, args.seconds, args.calls)
+    elif args.piece == "accel":
+        trace = record_accel(seeds, args.seconds, args.calls)
+    elif args.piece == "table":
+        trace = record_table(seeds, args.seconds, args.calls)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
     args.out.parent.mkdir(parents=True, exist_ok=True)
