@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from nubot_control.mpc import LaguerreMpc, MpcParams
-from nubot_tools.golden import main, record_mpc
+from nubot_tools.golden import main, record_mpc, record_states
 
 
 def test_a_recorded_call_gives_its_command_again():
@@ -30,3 +30,17 @@ def test_bad_options_are_refused(tmp_path, capsys):
         assert exit_.value.code == 2
         assert "must be positive" in capsys.readouterr().err
     assert not (tmp_path / "x.npz").exists()
+
+
+def test_one_play_records_both_ways_a_plan_is_read_back_and_each_call_reads_back_again():
+    from nubot_control.path_planning import _trajectory
+
+    trace = record_states([0], seconds=2.0, calls=6)
+    single = trace["single"]
+    assert 0 < single.sum() < len(single) == 6  # 3 of states_at, 3 of state_at, from the one match
+    for i in range(len(single)):
+        def rows(name, i=i):
+            return trace[name][trace[f"{name}_offsets"][i]:trace[f"{name}_offsets"][i + 1]]
+        t = rows("t").reshape(-1)
+        xy, _ = _trajectory(t, t.copy(), rows("xy"), rows("v"), ()).states_at(rows("times").reshape(-1))
+        np.testing.assert_array_equal(xy, rows("out_xy"))
