@@ -120,8 +120,9 @@ def test_a_robot_keeps_nothing_per_cycle_its_memory_stays_flat_after_a_warm_up()
     """A robot's nodes run for hours at 33 Hz: a few hundred bytes kept per cycle would be a MiB a minute.
     The scenario repeats every 400 cycles (set plays and open play, the ball held, lost and found again, the
     robot on a circle among moving opponents). After two rounds to warm up, four more add less than 48 KiB (30 B a
-    cycle): what the robot holds at a round's end differs by up to about 35 KiB with the plan it is following then,
-    a leak of 85 B a cycle would add 136 KiB."""
+    cycle) in one of two such spans: what the robot holds at a round's end differs by up to about 35 KiB with the plan
+    it is following then, and a table of the process's own (a cache, a registry) may grow once in a span, after
+    other tests ran; a leak of 85 B a cycle would add 136 KiB to both."""
     agent = RobotAgent(RobotName("nubot", 2), WorldDescription())
     modes = (MatchMode.OUR_KICKOFF, MatchMode.STARTROBOT, MatchMode.OPP_FREEKICK, MatchMode.STARTROBOT,
              MatchMode.STOPROBOT)
@@ -147,13 +148,16 @@ def test_a_robot_keeps_nothing_per_cycle_its_memory_stays_flat_after_a_warm_up()
     try:
         for k in range(period, 2 * period):  # traced, so that the state the next round replaces counts
             cycle(k)
-        gc.collect()
-        before = tracemalloc.get_traced_memory()[0]
-        for k in range(2 * period, 6 * period):
-            cycle(k)
-        gc.collect()
-        grown = tracemalloc.get_traced_memory()[0] - before
+        spans = []
+        for first in (2, 6):
+            gc.collect()
+            before = tracemalloc.get_traced_memory()[0]
+            for k in range(first * period, (first + 4) * period):
+                cycle(k)
+            gc.collect()
+            spans.append(tracemalloc.get_traced_memory()[0] - before)
     finally:
         if started:
             tracemalloc.stop()
-    assert grown < 48 * 1024, f"{grown} B kept over {4 * period} cycles ({grown / (4 * period):.0f} B a cycle)"
+    grown = min(spans)
+    assert grown < 48 * 1024, f"{spans} B kept in spans of {4 * period} cycles ({grown / (4 * period):.0f} B a cycle)"
