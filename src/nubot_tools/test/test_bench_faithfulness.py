@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from nubot_tools.ros.bench_faithfulness import compare, figures
+from nubot_tools.ros.bench_faithfulness import compare, figures, new_report
 
 
 def match(goals: int, shots: int, collisions: int, minutes: float = 3.0, completion: float = 0.8) -> dict:
@@ -46,3 +46,15 @@ def test_figures_carry_the_counts_behind_the_rates():
     assert (f["goals"], f["shots"], f["collisions"], f["fouls"]) == (3.0, 6.0, 5.0, 1.0)
     assert f["goals_per_minute"] == 1.5 and f["shots_per_minute"] == 3.0
     assert f["running_share"] == pytest.approx(2 / 3, abs=1e-4)
+
+
+def test_a_report_an_earlier_run_left_in_the_seed_s_folder_is_not_taken_for_this_run_s(tmp_path):
+    old = tmp_path / "match-20260101-000000" / "report.json"
+    old.parent.mkdir()
+    old.write_text("{}")
+    earlier = set(tmp_path.glob("match-*/report.json"))
+    assert new_report(tmp_path, earlier) is None, "this run made no report: none, not the old one"
+    made = tmp_path / "match-20260102-000000" / "report.json"
+    made.parent.mkdir()
+    made.write_text("{}")
+    assert new_report(tmp_path, earlier) == made

@@ -111,8 +111,16 @@ def play_lockstep(seed: int, half_seconds: float) -> dict:
             **figures(report, home.prefix)}
 
 
+def new_report(folder: Path, earlier: set[Path]) -> Path | None:
+    """The newest ``match-*/report.json`` in ``folder`` that is not one of ``earlier`` (None: the run made none; a
+    report an earlier run left there is never taken for this one's)."""
+    made = [p for p in folder.glob("match-*/report.json") if p not in earlier]
+    return max(made, key=lambda p: p.stat().st_mtime) if made else None
+
+
 def play_ros(seed: int, half_seconds: float, folder: Path, real_time_factor: float = 1.0) -> dict:
     folder.mkdir(parents=True, exist_ok=True)
+    earlier = set(folder.glob("match-*/report.json"))  # an earlier run's, kept in the seed's folder
     start = time.monotonic()
     perf_file = folder / f"perf-{time.strftime('%Y%m%d-%H%M%S')}.json"
     status = subprocess.run([sys.executable, str(WORKSPACE / "scripts" / "run_match.py"), "--half-seconds",
@@ -120,14 +128,14 @@ def play_ros(seed: int, half_seconds: float, folder: Path, real_time_factor: flo
                              "--perf-json", str(perf_file), "--real-time-factor", str(real_time_factor)],
                             check=False).returncode
     wall = time.monotonic() - start
-    matches = sorted(folder.glob("match-*/report.json"), key=lambda p: p.stat().st_mtime)
-    if not matches:
+    made = new_report(folder, earlier)
+    if made is None:
         raise RuntimeError(f"the ROS match of seed {seed} left no report in {folder} (status {status})")
-    report = json.loads(matches[-1].read_text())
-    run_file = matches[-1].parent / "run.json"
+    report = json.loads(made.read_text())
+    run_file = made.parent / "run.json"
     run = json.loads(run_file.read_text()) if run_file.exists() else {}
     perf = json.loads(perf_file.read_text()) if perf_file.exists() else {}
-    return {"seed": seed, "status": status, "ended": run.get("ended", "unknown"), "folder": str(matches[-1].parent),
+    return {"seed": seed, "status": status, "ended": run.get("ended", "unknown"), "folder": str(made.parent),
             "sim_seconds": run.get("sim_time"), "wall_seconds": round(wall, 1),
             "missed_cycle_share": perf.get("missed_cycle_share"),
             "real_time_factor": perf.get("achieved_real_time_factor"), **figures(report)}
