@@ -172,9 +172,7 @@ PYBIND11_MODULE(_kernels, m) {
         std::vector<nubot_control::Vec2> points;
         std::size_t i = 0;
         for (const py::handle e : ends) points.push_back(finite_point(e, "ends[" + std::to_string(i++) + "]"));
-        const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>> rows(xy.data(),
-                                                                                                 xy.shape(0), 2);
-        return nubot_control::keeps_clear(rows, points, discs(obstacles), margin, tolerance);
+        return nubot_control::keeps_clear(as_rows(xy), points, discs(obstacles), margin, tolerance);
       },
       py::arg("path"), py::arg("ends"), py::arg("obstacles"), py::arg("margin"), py::arg("tolerance"),
       "Whether the path keeps the obstacles' clearances (see nubot_control.path_planning.keeps_clear).");
@@ -225,8 +223,7 @@ PYBIND11_MODULE(_kernels, m) {
         }
         std::vector<double> table;
         table.reserve(3 * (goals.shape(0) + sightings.size()));
-        nubot_control::obstacle_table(mx, my, Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-                                                  goals.data(), goals.shape(0), 3),
+        nubot_control::obstacle_table(mx, my, Eigen::Map<const nubot_control::Rows3>(goals.data(), goals.shape(0), 3),
                                       sightings, robot_radius, clearance, planning_range, table);
         Array out({static_cast<py::ssize_t>(table.size() / 3), py::ssize_t{3}});
         std::copy(table.begin(), table.end(), out.mutable_data());

@@ -10,9 +10,8 @@
 
 namespace nubot_control {
 
-void obstacle_table(double mx, double my, const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, 3,
-                    Eigen::RowMajor>>& goals, const std::vector<Sighting>& sightings, double robot_radius,
-                    double clearance, double planning_range, std::vector<double>& out) {
+void obstacle_table(double mx, double my, const Eigen::Ref<const Rows3>& goals, const std::vector<Sighting>& sightings,
+                    double robot_radius, double clearance, double planning_range, std::vector<double>& out) {
   const auto add = [&](double x, double y, double radius) {
     if (std::hypot(x - mx, y - my) < planning_range) out.insert(out.end(), {x, y, radius});
   };

@@ -22,7 +22,7 @@ constexpr double kMinAlong = 0.2;         // the share of max_accel always left 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kDegree = 3;
 
-using Points = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+using Points = Rows2;
 
 double dist(const Vec2& a, const Vec2& b) { return std::hypot(a.x() - b.x(), a.y() - b.y()); }
 
@@ -527,8 +527,8 @@ bool Bounds::contains(const Vec2& p) const {
   return x_min <= p.x() && p.x() <= x_max && y_min <= p.y() && p.y() <= y_max;
 }
 
-bool keeps_clear(const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>& path,
-                 const std::vector<Vec2>& ends, const std::vector<Disc>& obstacles, double margin, double tolerance) {
+bool keeps_clear(const Eigen::Ref<const Rows2>& path, const std::vector<Vec2>& ends,
+                 const std::vector<Disc>& obstacles, double margin, double tolerance) {
   for (const Disc& d : obstacles) {
     const double clear = margin + d.radius;
     const bool holds = std::any_of(ends.begin(), ends.end(), [&](const Vec2& e) {

@@ -10,6 +10,8 @@
 namespace nubot_control {
 
 using Vec2 = Eigen::Vector2d;
+using Rows2 = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;  // (n, 2) points or velocities, as numpy
+using Rows3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;  // (k, 3) rows: obstacles (x, y, radius)
 
 struct PlannerParams {
   double robot_radius;
@@ -36,8 +38,8 @@ struct Disc {
 struct PlanResult {
   Eigen::VectorXd t;                                   // (n,) time from the plan's start [s]
   Eigen::VectorXd s;                                   // (n,) arc length [m]
-  Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> xy;  // (n, 2) positions [m]
-  Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> v;   // (n, 2) velocities [m/s]
+  Rows2 xy;                                            // (n, 2) positions [m]
+  Rows2 v;                                             // (n, 2) velocities [m/s]
   std::vector<Vec2> via;                               // the route the spline was fitted through
 };
 
@@ -53,7 +55,7 @@ PlanResult plan(const Vec2& start, const std::vector<Vec2>& waypoints, const std
 // Whether every point of path stays margin + radius - tolerance or farther from the centre of each obstacle whose
 // margin + radius holds none of ends (as the planner does, an obstacle holding the robot or a waypoint is not
 // avoided). Squared distances are compared, as nubot_control.path_planning.keeps_clear's golden trace was made.
-bool keeps_clear(const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>& path,
-                 const std::vector<Vec2>& ends, const std::vector<Disc>& obstacles, double margin, double tolerance);
+bool keeps_clear(const Eigen::Ref<const Rows2>& path, const std::vector<Vec2>& ends,
+                 const std::vector<Disc>& obstacles, double margin, double tolerance);
 
 }  // namespace nubot_control

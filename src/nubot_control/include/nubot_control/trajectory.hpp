@@ -4,9 +4,9 @@
 
 #include <Eigen/Dense>
 
-namespace nubot_control {
+#include "nubot_control/path_planning.hpp"
 
-using Rows2 = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+namespace nubot_control {
 
 // Positions and velocities at ``times`` on the trajectory sampled at t (increasing, t[0] == 0) with positions xy and
 // velocities v; before 0 the first sample's state, after the end the last one's. Between two samples the velocity is
