@@ -24,8 +24,9 @@ heading is a rate-limited proportional loop in both. An obstacle is (x, y), a ro
 (x, y, clearance): keep the centre that far away. After either tracker the contact guard
 (``keep_clear``) takes out of the command what would bring the robot into contact with another
 robot: the speed towards each is at most what lets it stop ``contact_margin`` short of that robot's
-hull, so robots press and block but never drive into each other; before it, the areas the rules keep
-the robot out of (``no_go``) are walls it does not cross (``areas.stay_out``).
+hull, so robots press and block but never drive into each other; a velocity whose line keeps the planner's
+``clearance`` from a robot is left alone. Before it, the areas the rules keep the robot out of (``no_go``) are
+walls it does not cross (``areas.stay_out``).
 """
 
 from __future__ import annotations
@@ -51,7 +52,6 @@ else:
     _kernels = load_kernels("nubot_control")
 
 _MAX_DETOURS = 3
-_IN_THE_WAY = 0.3  # a robot is in the way of a velocity whose line passes it closer than min_distance plus this [m]
 # A plan whose remaining path enters an obstacle's clearance by more than this is replaced [m]; the planner
 # itself leaves violations of a few millimetres (kTolerance in cpp/path_planning.cpp), which must not force a replan.
 _INTRUSION_TOLERANCE = 0.01
@@ -97,13 +97,14 @@ def sub_target(start: tuple[float, float], goal: tuple[float, float], obstacles:
 
 
 def keep_clear(position: tuple[float, float], velocity: tuple[float, float], robots: Sequence[tuple[float, ...]],
-               min_distance: float, brake: float, latency: float) -> tuple[float, float]:
+               min_distance: float, brake: float, latency: float, in_the_way: float) -> tuple[float, float]:
     """``velocity`` [m/s] without what would bring the robot at ``position`` within ``min_distance`` [m] (centre to
     centre) of a robot in ``robots`` (x, y): for each robot that the straight line of the velocity would pass closer
-    than ``min_distance`` (and a margin: the other may move into it), the speed towards it is at most the speed from
-    which it stops in the room left, braking at ``brake`` [m/s^2] after ``latency`` [s]. A robot the line passes wide
-    of, or one behind, is left alone; sideways the velocity is kept. Two robots coming at each other so both brake, at
-    twice ``brake`` together."""
+    than ``min_distance`` plus ``in_the_way`` [m] (a margin: the other may move into it), the speed towards it is at
+    most the speed from which it stops in the room left, braking at ``brake`` [m/s^2] after ``latency`` [s]; in that
+    margin less of the limit applies the wider the line passes. A robot the line passes wide of, or one behind, is
+    left alone; sideways the velocity is kept. Two robots coming at each other so both brake, at twice ``brake``
+    together."""
     vx, vy = velocity
     bt = brake * latency
     for _ in range(3):  # limiting towards one robot can add speed towards another: settle in a few rounds
@@ -118,12 +119,12 @@ def keep_clear(position: tuple[float, float], velocity: tuple[float, float], rob
                 continue
             towards = (vx * dx + vy * dy) / distance
             wide = abs(vx * dy - vy * dx) / speed - min_distance  # how far the line passes outside min_distance
-            if towards <= 0.0 or wide >= _IN_THE_WAY:
+            if towards <= 0.0 or wide >= in_the_way:
                 continue  # going away, or the line passes wide of it (the other may move into it: a margin)
             room = max(distance - min_distance, 0.0)
             allowed = -bt + math.sqrt(bt * bt + 2.0 * brake * room)  # v * latency + v^2 / (2 brake) = room
             if wide > 0.0:  # in the margin: less of the limit the wider the line passes, so the command stays smooth
-                allowed += (towards - allowed) * wide / _IN_THE_WAY if towards > allowed else 0.0
+                allowed += (towards - allowed) * wide / in_the_way if towards > allowed else 0.0
             if towards > allowed + 1e-9:
                 cut = towards - allowed
                 vx, vy = vx - cut * dx / distance, vy - cut * dy / distance
@@ -233,8 +234,10 @@ class MotionController:
             vx, vy = stay_out((me.x, me.y), (vx, vy), no_go, p.contact_brake, p.contact_latency)
         if p.contact_margin > 0.0:
             robots = [o for o in obstacles if len(o) == 2]
+            # A line that keeps the planner's clearance is left alone: the guard does not bend a plan that avoids
+            # the robots, it stops what drives into one.
             vx, vy = keep_clear((me.x, me.y), (vx, vy), robots, 2.0 * self.robot_radius + p.contact_margin,
-                                p.contact_brake, p.contact_latency)
+                                p.contact_brake, p.contact_latency, max(p.clearance - p.contact_margin, 0.0))
         bx, by = rotate(vx, vy, -me.theta)
         if holding:
             scale = dribble_scale(bx, by, p)

@@ -47,8 +47,11 @@ class MotionParams:
     # The contact guard (``motion.keep_clear``), after either tracker: the speed towards another robot in the way is at
     # most what lets this robot stop ``contact_margin`` short of its hull, braking at ``contact_brake`` after
     # ``contact_latency`` (two robots in each other's way brake together: at most half the base's braking). 0 turns
-    # it off.
-    contact_margin: float = 0.08  # [m] between the hulls
+    # it off. The margin covers what the robot does not know of the gap: each robot's self-localization (2 cm
+    # in the simulator, two robots' together about 3 cm), another robot's tracked or reported position, and a
+    # command that reaches the base some 10-30 ms late over ROS (at 0.08 m the ROS matches had 4 times the
+    # lockstep matches' contacts). A velocity whose line keeps ``clearance`` from a robot is left alone.
+    contact_margin: float = 0.15  # [m] between the hulls
     contact_brake: float = 2.0  # [m/s^2], at most half the base's braking
     contact_latency: float = 0.1  # [s] from seeing the other robot to braking: the percepts' age, a control cycle and
     # the drive's response

@@ -18,6 +18,7 @@ from nubot_control.team_state import MAX_PREDICTION, team_state
 P = MotionParams()
 ROBOT_RADIUS = WorldDescription().robot.radius  # [m]
 DT = 1 / 33
+IN_THE_WAY = P.clearance - P.contact_margin  # the guard's margin beside a robot, as the motion layer sets it [m]
 TRACKERS = ["mpc", "baseline"]
 
 
@@ -213,14 +214,15 @@ def test_a_plan_is_replaced_when_the_robot_is_pushed_off_it_or_its_limits_change
 
 def test_keeping_plans_drives_like_replanning_every_cycle():
     """The same drive round an obstacle, plans kept or made every cycle: the same route within centimetres, the
-    same clearance, the goal reached as soon (a kept plan's speed profile differs a little on the way)."""
+    same clearance within 3 cm (the planner's own difference: the contact guard leaves a path that keeps the planner's
+    clearance alone), the goal reached as soon (a kept plan's speed profile differs a little on the way)."""
     obstacles = [(3.0, 0.2)]
     kept, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(6.0, 1.0, 0.0), obstacles, seconds=5.0)
     every, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(6.0, 1.0, 0.0), obstacles, seconds=5.0, keep_plan_time=0.0)
     a, b = (np.array([(p.x, p.y) for p in path]) for path in (kept, every))
     assert max(np.linalg.norm(b - point, axis=1).min() for point in a) < 0.1
     gaps = [np.linalg.norm(xy - obstacles[0], axis=1).min() for xy in (a, b)]
-    assert gaps[0] == pytest.approx(gaps[1], abs=0.02)
+    assert gaps[0] == pytest.approx(gaps[1], abs=0.03)
     arrivals = [int(np.argmax(np.linalg.norm(xy - (6.0, 1.0), axis=1) < 0.05)) for xy in (a, b)]
     assert abs(arrivals[0] - arrivals[1]) <= 3
     assert np.linalg.norm(a[-1] - b[-1]) < 0.02
@@ -231,6 +233,17 @@ def test_keeping_plans_drives_like_replanning_every_cycle():
 def test_a_negative_keep_plan_parameter_is_refused(name):
     with pytest.raises(ValueError, match=name):
         MotionParams(**{name: -0.1})
+
+
+def test_the_guard_leaves_a_plan_that_passes_a_robot_at_the_planners_clearance_alone():
+    """The mpc plan round a standing robot keeps the planner's clearance: the contact guard, whose margin is narrower,
+    does not bend it (the drive is the same with the guard off), so the tracker follows its reference."""
+    obstacles = [(3.0, 0.2)]
+    guarded, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(6.0, 1.0, 0.0), obstacles, seconds=5.0)
+    unguarded, _ = drive(Pose2D(0.0, 0.0, 0.0), Pose2D(6.0, 1.0, 0.0), obstacles, seconds=5.0, contact_margin=0.0)
+    a, b = (np.array([(p.x, p.y) for p in path]) for path in (guarded, unguarded))
+    assert np.linalg.norm(a - b, axis=1).max() < 1e-9
+    assert np.linalg.norm(a - obstacles[0], axis=1).min() > 2 * ROBOT_RADIUS + P.clearance - 0.01
 
 
 @pytest.mark.parametrize("tracker", TRACKERS)
@@ -253,8 +266,8 @@ def test_two_robots_driving_at_each_other_both_brake_and_never_touch():
     va, vb = np.zeros(2), np.zeros(2)
     closest, slowest = math.inf, math.inf
     for _ in range(int(4.0 / DT)):
-        want_a = keep_clear(tuple(a), (3.0, 0.0), [tuple(b)], gap, P.contact_brake, P.contact_latency)
-        want_b = keep_clear(tuple(b), (-3.0, 0.0), [tuple(a)], gap, P.contact_brake, P.contact_latency)
+        want_a = keep_clear(tuple(a), (3.0, 0.0), [tuple(b)], gap, P.contact_brake, P.contact_latency, IN_THE_WAY)
+        want_b = keep_clear(tuple(b), (-3.0, 0.0), [tuple(a)], gap, P.contact_brake, P.contact_latency, IN_THE_WAY)
         for v, want in ((va, want_a), (vb, want_b)):  # the base: accelerates at 3, brakes at 5 m/s^2
             dv = np.array(want) - v
             limit = (5.0 if np.linalg.norm(want) < np.linalg.norm(v) else 3.0) * DT
@@ -266,12 +279,13 @@ def test_two_robots_driving_at_each_other_both_brake_and_never_touch():
 
 
 @pytest.mark.parametrize("moved_on", [False, True])
-def test_teammates_sprinting_at_each_other_on_packets_two_cycles_old_keep_apart_only_when_moved_on(moved_on):
-    """Over ROS a teammate's packet is 50-70 ms old when control acts on it (its world model's frame, the team link,
-    this robot's world model), and a command acts a cycle later. Closing at 6 m/s, each sees the other farther than
-    it is by more than the guard's margin, brakes too late and they touch. Moved on at its reported velocity for the
-    packet's age (``RobotReport.moved_on``, as ``team_state`` does), the other is where it is: they stop apart."""
-    lag = 2  # cycles, about 60 ms
+def test_teammates_sprinting_at_each_other_on_packets_four_cycles_old_keep_apart_only_when_moved_on(moved_on):
+    """A teammate's packet is 50-70 ms old over ROS when control acts on it (its world model's frame, the team link,
+    this robot's world model), and more over a busy team network; a command acts a cycle later. Closing at 6 m/s on
+    packets 120 ms old, each sees the other farther than it is by more than the guard's margin, brakes too late and
+    they touch. Moved on at its reported velocity for the packet's age (``RobotReport.moved_on``, as ``team_state``
+    does), the other is where it is: they stop apart."""
+    lag = 4  # cycles, about 120 ms
     gap = 2 * ROBOT_RADIUS + P.contact_margin
     pos, vel = [np.array([0.0, 0.0]), np.array([6.0, 0.05])], [np.zeros(2), np.zeros(2)]
     history: list[tuple[np.ndarray, ...]] = []
@@ -286,7 +300,7 @@ def test_teammates_sprinting_at_each_other_on_packets_two_cycles_old_keep_apart_
             if moved_on:
                 report = report.moved_on(age)
             commands[me].append(np.array(keep_clear(tuple(pos[me]), (sign * 3.0, 0.0), [(report.pose.x, report.pose.y)],
-                                                    gap, P.contact_brake, P.contact_latency)))
+                                                    gap, P.contact_brake, P.contact_latency, IN_THE_WAY)))
         for _ in range(substeps):  # the base follows the command of a cycle ago: accelerates at 3.5, brakes at 5 m/s^2
             for v, p, command in zip(vel, pos, commands):
                 dv = command[-2] - v
@@ -328,10 +342,11 @@ def test_opponents_are_moved_on_from_the_world_model_s_time_at_their_tracked_vel
 
 def test_the_guard_leaves_sideways_passing_and_robots_behind_alone():
     gap, brake, latency = 0.6, P.contact_brake, P.contact_latency
-    assert keep_clear((0.0, 0.0), (0.0, 2.0), [(0.7, 0.0)], gap, brake, latency) == (0.0, 2.0)  # sideways
-    assert keep_clear((0.0, 0.0), (3.0, 0.0), [(-0.7, 0.0)], gap, brake, latency) == (3.0, 0.0)  # behind
-    assert keep_clear((0.0, 0.0), (3.0, 0.0), [(2.0, 1.0)], gap, brake, latency) == (3.0, 0.0)  # the line passes wide
-    vx, vy = keep_clear((0.0, 0.0), (3.0, 1.0), [(0.8, 0.0)], gap, brake, latency)  # in the way, 0.2 m of room
+    assert keep_clear((0.0, 0.0), (0.0, 2.0), [(0.7, 0.0)], gap, brake, latency, IN_THE_WAY) == (0.0, 2.0)  # sideways
+    assert keep_clear((0.0, 0.0), (3.0, 0.0), [(-0.7, 0.0)], gap, brake, latency, IN_THE_WAY) == (3.0, 0.0)  # behind
+    wide = keep_clear((0.0, 0.0), (3.0, 0.0), [(2.0, 1.0)], gap, brake, latency, IN_THE_WAY)
+    assert wide == (3.0, 0.0)  # the line passes wide
+    vx, vy = keep_clear((0.0, 0.0), (3.0, 1.0), [(0.8, 0.0)], gap, brake, latency, IN_THE_WAY)  # 0.2 m of room
     assert vx == pytest.approx(-brake * latency + math.sqrt((brake * latency) ** 2 + 2 * brake * 0.2))
     assert vy == 1.0
 
