@@ -44,3 +44,17 @@ def test_one_play_records_both_ways_a_plan_is_read_back_and_each_call_reads_back
         t = rows("t").reshape(-1)
         xy, _ = _trajectory(t, t.copy(), rows("xy"), rows("v"), ()).states_at(rows("times").reshape(-1))
         np.testing.assert_array_equal(xy, rows("out_xy"))
+
+
+def test_a_motion_layer_s_recorded_sequence_holds_every_cycle_of_the_robots_kept():
+    from nubot_tools.golden import record_follow
+
+    trace = record_follow([0], seconds=2.0, trackers=2)
+    cycles = len(trace["kind"])
+    assert set(trace["tracker"]) == {0, 1} and len(trace["params"]) == len(trace["dt"]) == 2
+    assert 2 * 60 <= cycles <= 2 * 70  # every cycle of both at 33 Hz for 2 s
+    for name, width in (("waypoints", 2), ("obstacles", 4), ("no_go", 4)):
+        assert trace[name].shape[1] == width and len(trace[f"{name}_offsets"]) == cycles + 1
+    assert trace["scalars"].shape == (cycles, 9) and trace["answers"].shape == (cycles, 8)
+    follows = trace["kind"] == 0
+    assert np.isfinite(trace["answers"][follows, :3]).all(), "every cycle's command"

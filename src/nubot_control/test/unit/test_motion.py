@@ -1,5 +1,6 @@
 """Unit tests of the motion layer (both trackers) on a kinematic robot: targets, limits, obstacles, waypoints."""
 
+import json
 import math
 from pathlib import Path
 
@@ -431,3 +432,43 @@ def test_the_obstacle_table_refuses_what_is_no_obstacle():
     for bad in ([(1.0,)], [3.0], [("a", 1.0)]):
         with pytest.raises(ValueError, match=r"an obstacle is \(x, y\) or \(x, y, keep\) in numbers"):
             obstacle_table((0.0, 0.0), bad, goals, 0.26, 0.25, 8.0)
+
+
+FOLLOW_GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "follow.npz"
+
+
+def test_the_motion_layer_drives_its_golden_sequences_cycle_after_cycle():
+    """Three robots' motion layers over 40 s of seeded lockstep matches each (``python -m nubot_tools.golden follow``:
+    one that stepped urgently into a shot, one that held the ball), every cycle's inputs replayed in order into a new
+    motion layer: the same commands, references and new plans, cycle after cycle (to 1e-9: a decision taken the other
+    way would part the sequences at once)."""
+    with np.load(FOLLOW_GOLDEN) as archive:
+        trace = dict(archive)
+
+    def rows(name, i):
+        offsets = trace[f"{name}_offsets"]
+        return trace[name][offsets[i]:offsets[i + 1]]
+
+    layers = [MotionController(MotionParams(**json.loads(str(p))), WorldDescription(), float(dt))
+              for p, dt in zip(trace["params"], trace["dt"])]
+    replans = 0
+    for i, (which, kind) in enumerate(zip(trace["tracker"], trace["kind"])):
+        ctl = layers[which]
+        if kind:
+            ctl.reset()
+            continue
+        x, y, theta, heading, dt, limit, holding, urgent, _ = trace["scalars"][i]
+        before = ctl.trajectory
+        obstacles = [(ox, oy, keep) if kept else (ox, oy) for ox, oy, keep, kept in rows("obstacles", i).tolist()]
+        command = ctl.follow(Pose2D(x, y, theta), [tuple(w) for w in rows("waypoints", i).tolist()], heading,
+                             obstacles, dt, None if math.isnan(limit) else limit, bool(holding),
+                             [tuple(r) for r in rows("no_go", i).tolist()], bool(urgent))
+        answer = trace["answers"][i]
+        np.testing.assert_allclose(command, answer[:3], rtol=0.0, atol=1e-9, err_msg=f"cycle {i}: the command")
+        reference = (*ctl.reference[0], *ctl.reference[1])
+        np.testing.assert_allclose(reference, answer[3:7], rtol=0.0, atol=1e-9, err_msg=f"cycle {i}: the reference")
+        new = ctl.trajectory is not None and ctl.trajectory is not before
+        assert new == bool(answer[7]), f"cycle {i}: a new plan or not"
+        replans += new
+    assert 0.2 * len(trace["kind"]) < replans < 0.8 * len(trace["kind"]), "plans made and plans kept"
+    assert trace["scalars"][:, 7].sum() > 0 and trace["scalars"][:, 6].sum() > 0, "urgent steps and a ball held"

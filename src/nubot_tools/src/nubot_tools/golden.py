@@ -21,6 +21,12 @@ kept), the limit and the answer.
 obstacles this cycle): the robot, the obstacles it was given ((x, y) or (x, y, keep)), the goals' rows, the
 parameters and the table.
 
+``python -m nubot_tools.golden follow --out FILE`` records whole sequences of ``MotionController`` cycles: every
+``follow`` (and ``reset``) of ``--trackers`` robots' motion layers (drawn with the seeded generator) in order, with
+everything it was given (the robot's pose, the route, the heading, the obstacles, the cycle time, the speed limit,
+holding, the areas to keep out of, urgent) and what it gave (the body-frame command, the reference, whether it made a
+new plan). A motion layer fed the same sequence from its start must answer the same way, cycle after cycle.
+
 ``python -m nubot_tools.golden labels --out FILE`` records ``--calls`` of the world models' ``label_obstacles`` calls
 (their inputs and the labelled obstacles they gave).
 
@@ -334,6 +340,96 @@ def record_obstacles(seeds: list[int], seconds: float, trackers: int) -> dict[st
     return trace
 
 
+def record_follow(seeds: list[int], seconds: float, trackers: int) -> dict[str, np.ndarray]:
+    """Every ``follow`` and ``reset`` of ``trackers`` robots' ``MotionController`` in order (kind 0 a cycle with its
+    inputs and answers, kind 1 a reset): a robot that stepped urgently, one reset and one that held the ball if the
+    matches have them, the rest drawn with the seeded generator."""
+    from nubot_common.world_description import WorldDescription
+    from nubot_control.motion import MotionController
+
+    calls: dict[int, list[tuple]] = {}
+    made: list[Any] = []
+    follow, reset = MotionController.follow, MotionController.reset
+
+    def note(self: Any, entry: tuple) -> None:
+        if id(self) not in calls:
+            calls[id(self)] = []
+            made.append(self)  # kept alive: ids stay unique
+        calls[id(self)].append(entry)
+
+    def recorded_follow(self: Any, me: Any, waypoints: Any, heading: float, obstacles: Any, dt: float,
+                        speed_limit: float | None = None, holding: bool = False, no_go: Any = (),
+                        urgent: bool = False) -> Any:
+        before = self.trajectory
+        command = follow(self, me, waypoints, heading, obstacles, dt, speed_limit, holding, no_go, urgent)
+        reference = self.reference
+        note(self, (0, (me.x, me.y, me.theta), np.array(waypoints, dtype=float).reshape(-1, 2), float(heading),
+                    np.array([(o[0], o[1], o[2], 1.0) if len(o) > 2 else (o[0], o[1], 0.0, 0.0) for o in obstacles],
+                             dtype=float).reshape(-1, 4),
+                    float(dt), math.nan if speed_limit is None else float(speed_limit), float(holding),
+                    np.array(no_go, dtype=float).reshape(-1, 4), float(urgent), tuple(float(c) for c in command),
+                    (*reference[0], *reference[1]) if reference is not None else (math.nan,) * 4,
+                    float(self.trajectory is not None and self.trajectory is not before)))
+        return command
+
+    def recorded_reset(self: Any) -> None:
+        note(self, (1,))
+        reset(self)
+
+    MotionController.follow, MotionController.reset = recorded_follow, recorded_reset  # type: ignore[assignment]
+    try:
+        play(seeds, seconds)
+    finally:
+        MotionController.follow, MotionController.reset = follow, reset  # type: ignore[assignment]
+    world = WorldDescription()
+    rng = np.random.default_rng(0)
+    order = [int(i) for i in rng.permutation(len(made))]
+    # the rare ways through a cycle first: the first robot (in the drawn order) that stepped urgently, one reset, one
+    # that held the ball; then the others in the drawn order
+    wanted = [lambda e: e[0] == 0 and e[9] > 0.0, lambda e: e[0] == 1, lambda e: e[0] == 0 and e[7] > 0.0]
+    chosen_set: list[int] = []
+    for rare in wanted:
+        for i in order:
+            if i not in chosen_set and any(rare(e) for e in calls[id(made[i])]):
+                chosen_set.append(i)
+                break
+    chosen_set += [i for i in order if i not in chosen_set]
+    chosen = sorted(chosen_set[:trackers])
+    params, dts = [], []
+    which: list[int] = []
+    kinds: list[int] = []
+    scalars: list[tuple[float, ...]] = []
+    answers: list[tuple[float, ...]] = []
+    rows: dict[str, list[np.ndarray]] = {"waypoints": [], "obstacles": [], "no_go": []}
+    for n, i in enumerate(chosen):
+        motion = made[i]
+        if motion.field != world.field or motion.robot_radius != world.robot.radius:
+            raise RuntimeError("the matches' world is not the default one the trace is replayed in")
+        params.append(json.dumps(dataclasses.asdict(motion.params), sort_keys=True))
+        dts.append(motion.mpc.params.dt if motion.mpc is not None else math.nan)
+        for entry in calls[id(motion)]:
+            which.append(n)
+            kinds.append(entry[0])
+            if entry[0]:
+                scalars.append((math.nan,) * 9)
+                answers.append((math.nan,) * 8)
+                for name, width in (("waypoints", 2), ("obstacles", 4), ("no_go", 4)):
+                    rows[name].append(np.zeros((0, width)))
+                continue
+            _, me, waypoints, heading, obstacles, dt, limit, holding, no_go, urgent, command, reference, new = entry
+            scalars.append((*me, heading, dt, limit, holding, urgent, 0.0))
+            answers.append((*command, *reference, new))
+            rows["waypoints"].append(waypoints)
+            rows["obstacles"].append(obstacles)
+            rows["no_go"].append(no_go)
+    print(f"golden: {len(made)} motion layers, {len(chosen)} kept, {len(kinds)} calls", file=sys.stderr)
+    trace = {"params": np.array(params), "dt": np.array(dts), "tracker": np.array(which), "kind": np.array(kinds),
+             "scalars": np.array(scalars).reshape(-1, 9), "answers": np.array(answers).reshape(-1, 8)}
+    for name, width in (("waypoints", 2), ("obstacles", 4), ("no_go", 4)):
+        trace[name], trace[f"{name}_offsets"] = _ragged(rows[name], width)
+    return trace
+
+
 def record_labels(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
     """``--calls`` of the world models' ``label_obstacles`` calls (drawn with the seeded generator): this robot's pose
     and AgentID, its own obstacles and their velocities, the teammates' reported obstacles (observer, x, y) and
@@ -368,14 +464,16 @@ def record_labels(seeds: list[int], seconds: float, calls: int) -> dict[str, np.
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("mpc", "plan", "obstacles", "labels", "clear", "states", "accel", "table"))
+    ap.add_argument("piece", choices=("mpc", "plan", "obstacles", "labels", "clear", "states", "accel", "table",
+                                           "follow"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
     ap.add_argument("--per-status", type=int, default=500, help="mpc: calls kept of each way a command was found")
     ap.add_argument("--calls", type=int, default=600, help="plan, labels, clear, states, accel, table: calls kept")
     ap.add_argument("--every", type=int, default=8, help="plan: every n-th sample of a trajectory kept")
-    ap.add_argument("--trackers", type=int, default=3, help="obstacles: robots whose tracker is kept")
+    ap.add_argument("--trackers", type=int, default=3,
+                    help="obstacles, follow: robots whose obstacle tracker or motion layer is kept")
     args = ap.parse_args(argv)
     if args.seeds < 1 or not args.seconds > 0 or args.per_status < 1 or args.calls < 1 or args.every < 1:
         ap.error("--seeds, --seconds, --per-status, --calls and --every must be positive")
@@ -394,6 +492,8 @@ def main(argv: list[str] | None = None) -> int:
         trace = record_accel(seeds, args.seconds, args.calls)
     elif args.piece == "table":
         trace = record_table(seeds, args.seconds, args.calls)
+    elif args.piece == "follow":
+        trace = record_follow(seeds, args.seconds, args.trackers)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
     args.out.parent.mkdir(parents=True, exist_ok=True)
