@@ -21,8 +21,8 @@ kept), the limit and the answer.
 obstacles this cycle): the robot, the obstacles it was given ((x, y) or (x, y, keep)), the goals' rows, the
 parameters and the table.
 
-``python -m nubot_tools.golden follow --out FILE`` records whole sequences of ``MotionController`` cycles: every
-``follow`` (and ``reset``) of ``--trackers`` robots' motion layers (drawn with the seeded generator) in order, with
+``python -m nubot_tools.golden follow --out FILE [--tracker baseline]`` records whole sequences of
+``MotionController`` cycles: every ``follow`` (and ``reset``) of ``--trackers`` robots' motion layers in order, with
 everything it was given (the robot's pose, the route, the heading, the obstacles, the cycle time, the speed limit,
 holding, the areas to keep out of, urgent) and what it gave (the body-frame command, the reference, whether it made a
 new plan). A motion layer fed the same sequence from its start must answer the same way, cycle after cycle.
@@ -54,13 +54,13 @@ import numpy as np
 from nubot_tools.workspace import TEAMS
 
 
-def play(seeds: list[int], seconds: float) -> None:
-    """Lockstep matches of the default teams with the MPC tracker, ``seconds`` of sim time each."""
+def play(seeds: list[int], seconds: float, tracker: str = "mpc") -> None:
+    """Lockstep matches of the default teams with ``tracker`` (the MPC's by default), ``seconds`` of sim time each."""
     from nubot_match.config import match_config
     from nubot_match.engine import LockstepMatch
 
     for seed in seeds:
-        config = match_config(TEAMS / "nubot.yaml", TEAMS / "rival.yaml", "18x12", "mpc", half_seconds=600.0,
+        config = match_config(TEAMS / "nubot.yaml", TEAMS / "rival.yaml", "18x12", tracker, half_seconds=600.0,
                               halves=2, seed=seed)
         match = LockstepMatch(config, [])
         match.reset(seed)
@@ -340,7 +340,7 @@ def record_obstacles(seeds: list[int], seconds: float, trackers: int) -> dict[st
     return trace
 
 
-def record_follow(seeds: list[int], seconds: float, trackers: int) -> dict[str, np.ndarray]:
+def record_follow(seeds: list[int], seconds: float, trackers: int, tracker: str = "mpc") -> dict[str, np.ndarray]:
     """Every ``follow`` and ``reset`` of ``trackers`` robots' ``MotionController`` in order (kind 0 a cycle with its
     inputs and answers, kind 1 a reset): a robot that stepped urgently, one reset and one that held the ball if the
     matches have them, the rest drawn with the seeded generator."""
@@ -378,7 +378,7 @@ def record_follow(seeds: list[int], seconds: float, trackers: int) -> dict[str, 
 
     MotionController.follow, MotionController.reset = recorded_follow, recorded_reset  # type: ignore[assignment]
     try:
-        play(seeds, seconds)
+        play(seeds, seconds, tracker)
     finally:
         MotionController.follow, MotionController.reset = follow, reset  # type: ignore[assignment]
     world = WorldDescription()
@@ -472,6 +472,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--per-status", type=int, default=500, help="mpc: calls kept of each way a command was found")
     ap.add_argument("--calls", type=int, default=600, help="plan, labels, clear, states, accel, table: calls kept")
     ap.add_argument("--every", type=int, default=8, help="plan: every n-th sample of a trajectory kept")
+    ap.add_argument("--tracker", choices=("mpc", "baseline"), default="mpc",
+                    help="follow: the robots' tracker in the matches played")
     ap.add_argument("--trackers", type=int, default=3,
                     help="obstacles, follow: robots whose obstacle tracker or motion layer is kept")
     args = ap.parse_args(argv)
@@ -493,7 +495,7 @@ def main(argv: list[str] | None = None) -> int:
     elif args.piece == "table":
         trace = record_table(seeds, args.seconds, args.calls)
     elif args.piece == "follow":
-        trace = record_follow(seeds, args.seconds, args.trackers)
+        trace = record_follow(seeds, args.seconds, args.trackers, args.tracker)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
     args.out.parent.mkdir(parents=True, exist_ok=True)
