@@ -12,6 +12,7 @@ targets=(nubot_control_kernels world_model_kernels)
 # The unit tests of what the kernels compute (and of their loader).
 tests=(src/nubot_control/test/unit/test_mpc.py src/nubot_control/test/unit/test_path_planning.py
        src/nubot_control/test/unit/test_kernels.py src/nubot_control/test/unit/test_motion.py
+       src/nubot_control/test/unit/test_chances.py
        src/world_model/test/unit/test_obstacles.py)
 
 echo "[sanitize] building ${targets[*]} with -fsanitize=address,undefined into $kernels"

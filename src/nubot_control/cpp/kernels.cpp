@@ -123,6 +123,77 @@ py::list point_list(const std::vector<nubot_control::Vec2>& points) {
   return out;
 }
 
+// The motion layer's obstacles: each (x, y) (a robot) or (x, y, keep) (a centre kept that far), numbers.
+std::vector<nubot_control::Sighting> sightings(const py::iterable& obstacles) {
+  std::vector<nubot_control::Sighting> out;
+  for (const py::handle o : obstacles) {
+    const auto refuse = [&o]() {
+      return std::invalid_argument("an obstacle is (x, y) or (x, y, keep) in numbers, got " + std::string(py::repr(o)));
+    };
+    if (!py::isinstance<py::sequence>(o)) throw refuse();
+    const auto row = py::reinterpret_borrow<py::sequence>(o);
+    const auto size = py::len(row);
+    if (size < 2) throw refuse();
+    try {
+      out.push_back({py::float_(row[0]).cast<double>(), py::float_(row[1]).cast<double>(),
+                     size > 2 ? py::float_(row[2]).cast<double>() : 0.0, size > 2});
+    } catch (const py::error_already_set&) {
+      throw refuse();
+    }
+  }
+  return out;
+}
+
+// The areas to keep out of: each (x0, x1, y0, y1) [m].
+std::vector<nubot_control::Rect> rects(const py::iterable& areas) {
+  std::vector<nubot_control::Rect> out;
+  for (const py::handle a : areas) {
+    try {
+      const py::sequence row = py::reinterpret_borrow<py::sequence>(a);
+      if (!py::isinstance<py::sequence>(a) || py::len(row) != 4) throw py::value_error("not four numbers");
+      out.push_back({py::float_(row[0]).cast<double>(), py::float_(row[1]).cast<double>(),
+                     py::float_(row[2]).cast<double>(), py::float_(row[3]).cast<double>()});
+    } catch (const py::error_already_set&) {
+      throw std::invalid_argument("an area is (x0, x1, y0, y1) in numbers, got " + std::string(py::repr(a)));
+    } catch (const py::value_error&) {
+      throw std::invalid_argument("an area is (x0, x1, y0, y1) in numbers, got " + std::string(py::repr(a)));
+    }
+  }
+  return out;
+}
+
+// A point (x, y) of numbers (finite or not: the caller's rules decide), else std::invalid_argument naming it.
+nubot_control::Vec2 point(const py::handle& value, const std::string& name) {
+  try {
+    const py::sequence items = py::reinterpret_borrow<py::sequence>(value);
+    if (!py::isinstance<py::sequence>(value) || py::len(items) != 2) throw py::value_error("not two numbers");
+    return {py::float_(items[0]).cast<double>(), py::float_(items[1]).cast<double>()};
+  } catch (const py::error_already_set&) {
+    throw std::invalid_argument(name + " must be a point (x, y), got " + std::string(py::repr(value)));
+  } catch (const py::value_error&) {
+    throw std::invalid_argument(name + " must be a point (x, y), got " + std::string(py::repr(value)));
+  }
+}
+
+std::vector<nubot_control::Vec2> points(const py::iterable& values, const std::string& name) {
+  std::vector<nubot_control::Vec2> out;
+  std::size_t i = 0;
+  for (const py::handle v : values) out.push_back(point(v, name + "[" + std::to_string(i++) + "]"));
+  return out;
+}
+
+nubot_control::MotionParams motion_params(const py::handle& p) {
+  const auto f = [&p](const char* name) { return p.attr(name).cast<double>(); };
+  return {p.attr("tracker").cast<std::string>() == "mpc", f("max_speed"), f("max_accel"), f("max_lateral_accel"),
+          f("max_rot_speed"), f("max_rot_accel"), f("dribble_speed"), f("dribble_back_speed"),
+          f("dribble_side_speed"), f("dribble_rot_speed"), f("dribble_accel"), f("replan_tolerance"),
+          f("keep_plan_deviation"), f("keep_plan_goal_shift"), f("keep_plan_goal_share"), f("keep_plan_time"),
+          f("plan_share"), f("planning_range"), f("position_gain"), f("heading_gain"), f("clearance"),
+          f("contact_margin"), f("contact_brake"), f("contact_latency")};
+}
+
+py::tuple pair(const nubot_control::Vec2& v) { return py::make_tuple(v.x(), v.y()); }
+
 }  // namespace
 
 PYBIND11_MODULE(_kernels, m) {
@@ -204,27 +275,11 @@ PYBIND11_MODULE(_kernels, m) {
       [](double mx, double my, const Array& goals, const py::iterable& obstacles, double robot_radius,
          double clearance, double planning_range) {
         if (goals.ndim() != 2 || goals.shape(1) != 3) throw std::invalid_argument("goals must be (k, 3) rows");
-        std::vector<nubot_control::Sighting> sightings;
-        for (const py::handle o : obstacles) {
-          const auto refuse = [&o]() {
-            return std::invalid_argument("an obstacle is (x, y) or (x, y, keep) in numbers, got " +
-                                         std::string(py::repr(o)));
-          };
-          if (!py::isinstance<py::sequence>(o)) throw refuse();
-          const auto row = py::reinterpret_borrow<py::sequence>(o);
-          const auto size = py::len(row);
-          if (size < 2) throw refuse();
-          try {
-            sightings.push_back({py::float_(row[0]).cast<double>(), py::float_(row[1]).cast<double>(),
-                                 size > 2 ? py::float_(row[2]).cast<double>() : 0.0, size > 2});
-          } catch (const py::error_already_set&) {
-            throw refuse();
-          }
-        }
+        const std::vector<nubot_control::Sighting> found = sightings(obstacles);
         std::vector<double> table;
-        table.reserve(3 * (goals.shape(0) + sightings.size()));
+        table.reserve(3 * (goals.shape(0) + found.size()));
         nubot_control::obstacle_table(mx, my, Eigen::Map<const nubot_control::Rows3>(goals.data(), goals.shape(0), 3),
-                                      sightings, robot_radius, clearance, planning_range, table);
+                                      found, robot_radius, clearance, planning_range, table);
         Array out({static_cast<py::ssize_t>(table.size() / 3), py::ssize_t{3}});
         std::copy(table.begin(), table.end(), out.mutable_data());
         return out;
@@ -232,6 +287,98 @@ PYBIND11_MODULE(_kernels, m) {
       py::arg("mx"), py::arg("my"), py::arg("goals"), py::arg("obstacles"), py::arg("robot_radius"),
       py::arg("clearance"), py::arg("planning_range"),
       "The planner's obstacle table (k, 3) (see nubot_control.motion.MotionController).");
+
+  m.def(
+      "sub_target",
+      [](const py::object& start, const py::object& goal, const py::iterable& obstacles, double clearance) {
+        return pair(nubot_control::sub_target(point(start, "start"), point(goal, "goal"), sightings(obstacles),
+                                              clearance));
+      },
+      py::arg("start"), py::arg("goal"), py::arg("obstacles"), py::arg("clearance"),
+      "The first point to head for round the obstacles (see nubot_control.motion.sub_target).");
+
+  m.def(
+      "keep_clear",
+      [](const py::object& position, const py::object& velocity, const py::iterable& robots, double min_distance,
+         double brake, double latency, double in_the_way) {
+        return pair(nubot_control::keep_clear(point(position, "position"), point(velocity, "velocity"),
+                                              points(robots, "robots"), min_distance, brake, latency, in_the_way));
+      },
+      py::arg("position"), py::arg("velocity"), py::arg("robots"), py::arg("min_distance"), py::arg("brake"),
+      py::arg("latency"), py::arg("in_the_way"),
+      "The velocity without what would drive into a robot (see nubot_control.motion.keep_clear).");
+
+  m.def(
+      "stay_out",
+      [](const py::object& position, const py::object& velocity, const py::iterable& areas, double brake,
+         double latency) {
+        return pair(nubot_control::stay_out(point(position, "position"), point(velocity, "velocity"), rects(areas),
+                                            brake, latency));
+      },
+      py::arg("position"), py::arg("velocity"), py::arg("rects"), py::arg("brake"), py::arg("latency"),
+      "The velocity without what would take the robot into an area (see nubot_control.areas.stay_out).");
+
+  m.def(
+      "dribble_scale",
+      [](double bx, double by, const py::object& params) {
+        return nubot_control::dribble_scale(bx, by, motion_params(params));
+      },
+      py::arg("bx"), py::arg("by"), py::arg("params"),
+      "The factor that brings the body velocity within what the ball handler keeps.");
+
+  py::class_<nubot_control::MotionCore>(m, "MotionCore", "One robot's motion layer (see nubot_control.motion).")
+      .def(py::init([](const py::object& params, const py::object& planner, double robot_radius,
+                       const py::object& bounds, const Array& goal_table, const py::object& mpc,
+                       double accel_rounding, double intrusion_tolerance) {
+             if (goal_table.ndim() != 2 || goal_table.shape(1) != 3) {
+               throw std::invalid_argument("goal_table must be (k, 3) rows");
+             }
+             LaguerreMpc* tracker = mpc.is_none() ? nullptr : mpc.cast<LaguerreMpc*>();
+             return nubot_control::MotionCore(
+                 motion_params(params), planner_params(planner), robot_radius, bounds_of(bounds),
+                 Eigen::Map<const nubot_control::Rows3>(goal_table.data(), goal_table.shape(0), 3), tracker,
+                 accel_rounding, intrusion_tolerance);
+           }),
+           py::arg("params"), py::arg("planner"), py::arg("robot_radius"), py::arg("bounds"), py::arg("goal_table"),
+           py::arg("mpc"), py::arg("accel_rounding"), py::arg("intrusion_tolerance"),
+           py::keep_alive<1, 7>())  // the tracker lives as long as the motion layer
+      .def("reset", &nubot_control::MotionCore::reset)
+      .def(
+          "follow",
+          [](nubot_control::MotionCore& self, double x, double y, double theta, const py::iterable& waypoints,
+             double heading, const py::iterable& obstacles, double dt, std::optional<double> speed_limit, bool holding,
+             const py::iterable& no_go, bool urgent) {
+            const Eigen::Vector3d c = self.follow({x, y, theta}, points(waypoints, "waypoints"), heading,
+                                                  sightings(obstacles), dt, speed_limit, holding, rects(no_go), urgent);
+            return py::make_tuple(c.x(), c.y(), c.z());
+          },
+          py::arg("x"), py::arg("y"), py::arg("theta"), py::arg("waypoints"), py::arg("heading"), py::arg("obstacles"),
+          py::arg("dt"), py::arg("speed_limit"), py::arg("holding"), py::arg("no_go"), py::arg("urgent"),
+          "One cycle's body-frame command (vx, vy, w) (see nubot_control.motion.MotionController.follow).")
+      .def_property_readonly("plan_count", &nubot_control::MotionCore::plan_count,
+                             "How many plans were made: which plan is followed.")
+      .def_property_readonly("has_plan", &nubot_control::MotionCore::has_plan)
+      .def(
+          "plan",
+          [](const nubot_control::MotionCore& self) {
+            const auto& r = self.plan();
+            return py::make_tuple(r.t, r.s, r.xy, r.v, point_list(r.via));
+          },
+          "The plan followed: (t, s, xy, v, via) copies.")
+      .def_property_readonly("plan_age", &nubot_control::MotionCore::plan_age)
+      .def_property_readonly(
+          "reference",
+          [](const nubot_control::MotionCore& self) -> py::object {
+            if (!self.has_reference()) return py::none();
+            return py::make_tuple(pair(self.reference_position()), pair(self.reference_velocity()));
+          },
+          "((x, y), (vx, vy)): where the robot should be now and how fast; None before a cycle.")
+      .def_property_readonly(
+          "waypoints", [](const nubot_control::MotionCore& self) { return py::tuple(point_list(self.waypoints())); },
+          "What remains of the route, the goal last.")
+      .def_property_readonly("velocity", [](const nubot_control::MotionCore& self) { return pair(self.velocity()); },
+                             "The last commanded velocity, team frame [m/s].")
+      .def_property_readonly("w", &nubot_control::MotionCore::w, "The last commanded turn rate [rad/s].");
 
   m.def("laguerre_basis", &nubot_control::laguerre_basis, py::arg("pole"), py::arg("terms"), py::arg("steps"),
         "Discrete Laguerre functions: row i is L(i)^T, shape (steps, terms).");

@@ -12,13 +12,18 @@ area; every other field robot keeps out of both penalty areas, so that no second
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from nubot_common.field import FieldGeometry
+from nubot_common.kernels import load_kernels
+
+if TYPE_CHECKING:
+    from nubot_control import _kernels  # its interface: _kernels.pyi
+else:
+    _kernels = load_kernels("nubot_control")
 
 AREA_MARGIN = 0.35  # kept between a robot's centre and an area's line: noise and overshoot stay outside [m]
-_EXIT_SPEED = 0.8  # a robot inside an area it must not be in leaves it at least this fast [m/s]
 
 Rect = tuple[float, float, float, float]  # x_min, x_max, y_min, y_max [m]
 
@@ -75,25 +80,6 @@ def stay_out(position: tuple[float, float], velocity: tuple[float, float], rects
              latency: float) -> tuple[float, float]:
     """``velocity`` [m/s] without what would take the robot at ``position`` into one of ``rects``: towards each, at
     most the speed from which it stops at its side, braking at ``brake`` [m/s^2] after ``latency`` [s]; along the side
-    it keeps its speed. Inside one it leaves by the nearest side at ``_EXIT_SPEED`` at least."""
-    x, y = position
-    vx, vy = velocity
-    bt = brake * latency
-    for x0, x1, y0, y1 in rects:
-        if x0 < x < x1 and y0 < y < y1:  # inside: out by the nearest side
-            exits = [(x - x0, -1.0, 0.0), (x1 - x, 1.0, 0.0), (y - y0, 0.0, -1.0), (y1 - y, 0.0, 1.0)]
-            _, nx, ny = min(exits)
-            outward = vx * nx + vy * ny
-            if outward < _EXIT_SPEED:
-                vx, vy = vx + (_EXIT_SPEED - outward) * nx, vy + (_EXIT_SPEED - outward) * ny
-            continue
-        qx, qy = min(max(x, x0), x1), min(max(y, y0), y1)  # the nearest point of the rectangle
-        gap = math.hypot(qx - x, qy - y)
-        if gap < 1e-9:
-            continue
-        nx, ny = (qx - x) / gap, (qy - y) / gap
-        towards = vx * nx + vy * ny
-        allowed = -bt + math.sqrt(bt * bt + 2.0 * brake * gap)
-        if towards > allowed:
-            vx, vy = vx - (towards - allowed) * nx, vy - (towards - allowed) * ny
-    return vx, vy
+    it keeps its speed. Inside one it leaves by the nearest side at 0.8 m/s at least. Compiled (``cpp/motion.cpp``,
+    the motion layer's)."""
+    return _kernels.stay_out(position, velocity, rects, float(brake), float(latency))

@@ -265,7 +265,7 @@ GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "mpc.npz"
 
 def test_the_compiled_tracker_gives_the_python_tracker_s_commands_on_its_golden_trace():
     """1254 calls recorded from the Python implementation over 3 seeded lockstep matches of 60 s (every call whose
-    QP was infeasible, 500 solved, 500 unconstrained; ``python -m nubot_tools.golden mpc``): the same way found,
+    QP was infeasible, 500 solved, 500 unconstrained; by ``nubot_tools.golden`` before it moved): the same way found,
     the same command to 1e-12 m/s. The two differ only in the order of floating-point sums (measured: 6e-15)."""
     with np.load(GOLDEN) as archive:
         trace = dict(archive)  # an archive reads an entry anew at each look

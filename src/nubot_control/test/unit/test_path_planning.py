@@ -308,7 +308,7 @@ GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "plan.npz"
 
 def test_the_compiled_planner_gives_the_python_planner_s_trajectories_on_its_golden_trace():
     """600 calls drawn from the 25,268 the Python implementation made over 3 seeded lockstep matches of 60 s
-    (``python -m nubot_tools.golden plan``), each trajectory kept at every 8th sample and its last: the same number
+    (by ``nubot_tools.golden`` before it moved), each trajectory kept at every 8th sample and its last: the same number
     of samples and route, positions to 1e-9 m, velocities to 1e-6 m/s, times to 1e-5 s. The two differ in the order
     of floating-point sums and in the spline's linear solver (LAPACK's banded LU against Eigen's dense one, both
     with partial pivoting); measured: positions and routes 2e-13 m, velocities 3e-8 m/s, times 3e-6 s (the latter
@@ -343,7 +343,7 @@ CLEAR_GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "clear.npz"
 
 def test_the_clearance_check_gives_its_golden_answers():
     """400 of the 40,057 checks the motion layer made of a kept plan's path (3 seeded lockstep matches of 60 s,
-    ``python -m nubot_tools.golden clear``), half clear and half not, recorded from the numpy implementation the
+    by ``nubot_tools.golden``), half clear and half not, recorded from the numpy implementation the
     compiled one replaced: the same answer for every one (both compare the same squared distances)."""
     with np.load(CLEAR_GOLDEN) as archive:
         trace = dict(archive)
@@ -393,7 +393,7 @@ def _golden_rows(trace, name, i):
 def test_the_compiled_trajectory_reads_back_its_golden_states():
     """Calls of ``states_at`` (the MPC's reference over its horizon) and ``state_at`` (where the plan has the robot
     now) recorded from the numpy implementation the compiled one replaced (3 seeded lockstep matches of 30 s,
-    ``python -m nubot_tools.golden states``): the same positions and velocities to 1e-12 m and m/s (the same
+    by ``nubot_tools.golden``): the same positions and velocities to 1e-12 m and m/s (the same
     arithmetic in the same order; 1e-12 leaves room for a compiler's other rounding)."""
     with np.load(STATES_GOLDEN) as archive:
         trace = dict(archive)
@@ -432,8 +432,8 @@ ACCEL_GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "accel.npz"
 
 def test_the_compiled_acceleration_check_gives_its_golden_answers():
     """Whether a new plan can be followed (its velocity changing no faster than the limit over the part that may be
-    kept), as the motion layer asked it of plans in 3 seeded lockstep matches of 30 s (``python -m nubot_tools.golden
-    accel``), half followable and half not, recorded from the numpy implementation: the same answer for each."""
+    kept), as the motion layer asked it of plans in 3 seeded lockstep matches of 30 s (by ``nubot_tools.golden``
+    before it moved), half followable and half not, recorded from the numpy implementation: the same answer for each."""
     with np.load(ACCEL_GOLDEN) as archive:
         trace = dict(archive)
     answers = []

@@ -1,25 +1,11 @@
 """Golden traces: what one numeric piece of the robot cycle was given and gave back, recorded over seeded lockstep
 matches, kept as test data so that a new implementation of the piece can be held to the old one's answers.
 
-``python -m nubot_tools.golden plan --out FILE`` does the same for the path planner (``path_planning.plan``, as
-``MotionController`` calls it): ``--calls`` of its calls drawn with the seeded generator, each with its inputs
-(ragged ones flattened, with offsets) and, of the trajectory it gave, the sample count, the route fitted (``via``)
-and every ``--every``-th sample's time, arc length, position and velocity (the last sample always).
-
-``python -m nubot_tools.golden clear --out FILE`` records ``path_planning.keeps_clear`` (whether a plan being kept
-still keeps the obstacles' clearances) as the motion layer calls it, half of the calls kept clear, half not.
-
-``python -m nubot_tools.golden states --out FILE`` records ``Trajectory.states_at`` (the MPC's reference over its
-horizon) and ``Trajectory.state_at`` (where the plan has the robot now) as the motion layer calls them: the
-trajectory's samples (t, xy, v), the times asked for and the positions and velocities given.
-
-``python -m nubot_tools.golden accel --out FILE`` records ``MotionController._within_accel`` (whether a new plan can be
-followed), half of the calls followable, half not: the plan's first samples (up to three past the part that may be
-kept), the limit and the answer.
-
-``python -m nubot_tools.golden table --out FILE`` records ``MotionController._obstacle_table`` (the planner's
-obstacles this cycle): the robot, the obstacles it was given ((x, y) or (x, y, keep)), the goals' rows, the
-parameters and the table.
+Each piece was recorded from its Python implementation before it moved to C++; the recorders of pieces that now run
+inside a compiled one (the MPC's commands, the planner's plans, the kept plan's clearance check, reading a plan back,
+the acceleration check and the obstacle table, all inside the motion layer's compiled cycle) went with them, their
+traces stay in ``nubot_control/test/golden/`` (``mpc``, ``plan``, ``clear``, ``states``, ``accel``, ``table``) and the
+unit tests hold the compiled pieces to them. What can still be recorded:
 
 ``python -m nubot_tools.golden follow --out FILE [--tracker baseline]`` records whole sequences of
 ``MotionController`` cycles: every ``follow`` (and ``reset``) of ``--trackers`` robots' motion layers in order, with
@@ -30,12 +16,10 @@ new plan). A motion layer fed the same sequence from its start must answer the s
 ``python -m nubot_tools.golden labels --out FILE`` records ``--calls`` of the world models' ``label_obstacles`` calls
 (their inputs and the labelled obstacles they gave).
 
-``python -m nubot_tools.golden mpc --out FILE`` plays ``--seeds`` lockstep matches of the default teams (MPC
-tracker) for ``--seconds`` of sim time each and records every ``LaguerreMpc.command`` call: its inputs (position,
-previous command, reference, limits), its command and how it was found (``last_status``). Calls are kept per
-status, at most ``--per-status`` of each (drawn with the seeded generator), so that the rare ones (the QP solved,
-the fallback) are all there beside a sample of the common one. The file is numpy's compressed ``.npz``; its
-``params`` entry is the controller's ``MpcParams`` as JSON.
+``python -m nubot_tools.golden obstacles --out FILE`` records every call of ``--trackers`` robots' obstacle trackers
+(``ObstacleTracker.update`` and ``estimate``), in order.
+
+The file is numpy's compressed ``.npz``.
 """
 
 from __future__ import annotations
@@ -67,52 +51,6 @@ def play(seeds: list[int], seconds: float, tracker: str = "mpc") -> None:
         match.run(until=seconds)
         match.close()
         print(f"golden: seed {seed} played ({seconds:.0f} s)", file=sys.stderr)
-
-
-def record_mpc(seeds: list[int], seconds: float, per_status: int) -> dict[str, np.ndarray]:
-    from nubot_control.mpc import LaguerreMpc
-
-    calls: list[tuple[Any, tuple, dict, Any]] = []
-    statuses: list[str] = []
-
-    def command(self: Any, *args: Any, **kwargs: Any) -> Any:
-        result = original(self, *args, **kwargs)
-        calls.append((self, args, kwargs, np.array(result, dtype=float)))
-        statuses.append(self.last_status)
-        return result
-
-    original = LaguerreMpc.command
-    LaguerreMpc.command = command  # type: ignore[assignment]
-    try:
-        play(seeds, seconds)
-    finally:
-        LaguerreMpc.command = original  # type: ignore[assignment]
-    params = {json.dumps(dataclasses.asdict(mpc.params), sort_keys=True) for mpc, *_ in calls}
-    if len(params) != 1:
-        raise RuntimeError(f"the robots' controllers differ in their parameters: {sorted(params)}")
-    rng = np.random.default_rng(0)
-    kept: list[int] = []
-    for status in sorted(set(statuses)):
-        where = [i for i, s in enumerate(statuses) if s == status]
-        chosen = rng.choice(where, size=min(per_status, len(where)), replace=False)
-        kept.extend(sorted(int(i) for i in chosen))
-        print(f"golden: {status}: {len(where)} calls, {len(chosen)} kept", file=sys.stderr)
-    kept.sort()
-
-    def argument(i: int, name: str, position: int, default: Any = None) -> Any:
-        _, args, kwargs, _ = calls[i]
-        return args[position] if position < len(args) else kwargs.get(name, default)
-
-    names = ("position", "previous", "ref_positions", "ref_velocities")
-    trace = {name: np.array([np.asarray(argument(i, name, n), dtype=float) for i in kept])
-             for n, name in enumerate(names)}
-    def limit(i: int, name: str, position: int) -> float:
-        value = argument(i, name, position)
-        return math.nan if value is None else float(value)  # NaN: none given (the controller's own)
-
-    limits = {name: np.array([limit(i, name, n) for i in kept]) for n, name in ((4, "max_speed"), (5, "max_accel"))}
-    return {**trace, **limits, "command": np.array([calls[i][3] for i in kept]),
-            "status": np.array([statuses[i] for i in kept]), "params": np.array(params.pop())}
 
 
 def _ragged(rows: list[np.ndarray], width: int) -> tuple[np.ndarray, np.ndarray]:
@@ -155,137 +93,6 @@ def record_many(owner: Any, names: list[str], seeds: list[int],
         for name, original in originals.items():
             setattr(owner, name, original)
     return recorded
-
-
-def record_plan(seeds: list[int], seconds: float, calls: int, every: int) -> dict[str, np.ndarray]:
-    from nubot_control import motion
-
-    recorded, kept = record_calls(motion, "plan", seeds, seconds, calls)  # the name MotionController calls
-    print(f"golden: {len(recorded)} plans, {len(kept)} kept", file=sys.stderr)
-    out: dict[str, list] = {name: [] for name in ("start", "start_velocity", "end_speed", "bounds", "params")}
-    waypoints, obstacles, via, samples, picked = [], [], [], [], []
-    for i in kept:
-        args, kwargs, trajectory = recorded[i]
-        start, goals, discs, params, bounds = args
-        out["start"].append(start)
-        out["start_velocity"].append(kwargs.get("start_velocity", (0.0, 0.0)))
-        out["end_speed"].append(kwargs.get("end_speed", 0.0))
-        out["bounds"].append((bounds.x_min, bounds.x_max, bounds.y_min, bounds.y_max))
-        out["params"].append(json.dumps(dataclasses.asdict(params), sort_keys=True))
-        waypoints.append(np.array(goals, dtype=float).reshape(-1, 2))
-        obstacles.append(np.array([(d.x, d.y, d.radius) for d in discs], dtype=float).reshape(-1, 3))
-        via.append(np.array(trajectory.via, dtype=float).reshape(-1, 2))
-        n = len(trajectory.t)
-        index: np.ndarray = np.unique(np.append(np.arange(0, n, every), n - 1))
-        picked.append(index)
-        samples.append(np.column_stack((trajectory.t[index], trajectory.s[index], trajectory.xy[index],
-                                        trajectory.v[index])))
-    trace = {name: np.array(values) for name, values in out.items()}
-    for name, rows, width in (("waypoints", waypoints, 2), ("obstacles", obstacles, 3), ("via", via, 2),
-                              ("samples", samples, 6), ("sample_index", picked, 1)):
-        trace[name], trace[f"{name}_offsets"] = _ragged(rows, width)
-    trace["sample_count"] = np.array([len(recorded[i][2].t) for i in kept])
-    return trace
-
-
-def record_clear(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
-    """``path_planning.keeps_clear`` as ``MotionController`` calls it to decide whether a plan still holds: up to
-    ``--calls`` / 2 calls of each answer (drawn with the seeded generator), each with the path, the ends, the
-    obstacles, the margin and tolerance, and the answer."""
-    from nubot_control import motion
-
-    recorded, _ = record_calls(motion, "keeps_clear", seeds, seconds, 0)
-    kept = _halves(recorded, bool, calls)
-    print(f"golden: {len(recorded)} checks ({sum(r for _, _, r in recorded)} clear), {len(kept)} kept",
-          file=sys.stderr)
-    paths, ends, obstacles, scalars = [], [], [], []
-    for i in kept:
-        (path, points, table, margin, tolerance), _, result = recorded[i]
-        paths.append(np.asarray(path, dtype=float).reshape(-1, 2))
-        ends.append(np.array(points, dtype=float).reshape(-1, 2))
-        obstacles.append(np.array(table, dtype=float).reshape(-1, 3))
-        scalars.append((margin, tolerance, float(result)))
-    trace = {"scalars": np.array(scalars).reshape(-1, 3)}
-    for name, rows, width in (("path", paths, 2), ("ends", ends, 2), ("obstacles", obstacles, 3)):
-        trace[name], trace[f"{name}_offsets"] = _ragged(rows, width)
-    return trace
-
-
-def _halves(recorded: list[tuple[tuple, dict, Any]], answer: Callable[[Any], bool], calls: int) -> list[int]:
-    """Up to ``calls`` / 2 of the calls whose result gives each answer, drawn with the seeded generator, in order."""
-    rng = np.random.default_rng(0)
-    kept: list[int] = []
-    for wanted in (True, False):
-        which = [i for i, (_, _, result) in enumerate(recorded) if answer(result) is wanted]
-        kept += [int(i) for i in rng.choice(which, size=min(calls // 2, len(which)), replace=False)]
-    return sorted(kept)
-
-
-def record_states(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
-    """``Trajectory.states_at`` and ``Trajectory.state_at`` as the motion layer calls them: ``--calls`` / 2 of each
-    (drawn with the seeded generator), each with the trajectory's samples, the times and the states given."""
-    from nubot_control.path_planning import Trajectory
-
-    rows: dict[str, list[np.ndarray]] = {"t": [], "xy": [], "v": [], "times": [], "out_xy": [], "out_v": []}
-    single: list[float] = []
-    rng = np.random.default_rng(0)
-    for name, recorded in record_many(Trajectory, ["states_at", "state_at"], seeds, seconds).items():
-        kept = sorted(int(i) for i in rng.choice(len(recorded), size=min(calls // 2, len(recorded)), replace=False))
-        print(f"golden: {len(recorded)} {name} calls, {len(kept)} kept", file=sys.stderr)
-        for i in kept:
-            (trajectory, times), _, (xy, v) = recorded[i]
-            for key, value in (("t", trajectory.t), ("xy", trajectory.xy), ("v", trajectory.v),
-                               ("times", np.atleast_1d(np.asarray(times, dtype=float))),
-                               ("out_xy", np.asarray(xy).reshape(-1, 2)), ("out_v", np.asarray(v).reshape(-1, 2))):
-                rows[key].append(np.asarray(value, dtype=float))
-            single.append(float(name == "state_at"))
-    trace = {"single": np.array(single)}
-    for key, width in (("t", 1), ("xy", 2), ("v", 2), ("times", 1), ("out_xy", 2), ("out_v", 2)):
-        trace[key], trace[f"{key}_offsets"] = _ragged(rows[key], width)
-    return trace
-
-
-def record_accel(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
-    """``MotionController._within_accel`` on new plans: up to ``--calls`` / 2 of each answer, each with the plan's
-    samples up to three past the first after ``keep_plan_time`` (all the check reads), the limit and the answer."""
-    from nubot_control.motion import MotionController
-
-    recorded, _ = record_calls(MotionController, "_within_accel", seeds, seconds, 0)
-    kept = _halves(recorded, bool, calls)
-    print(f"golden: {len(recorded)} acceleration checks ({sum(bool(r) for *_, r in recorded)} followable), "
-          f"{len(kept)} kept", file=sys.stderr)
-    samples, scalars = [], []
-    for i in kept:
-        (motion, trajectory, accel), _, result = recorded[i]
-        until = motion.params.keep_plan_time
-        end = int(np.searchsorted(trajectory.t, until, side="right")) + 4
-        samples.append(np.column_stack((trajectory.t[:end], trajectory.v[:end])))
-        scalars.append((until, accel, float(result)))
-    trace = {"scalars": np.array(scalars).reshape(-1, 3)}
-    trace["samples"], trace["samples_offsets"] = _ragged(samples, 3)
-    return trace
-
-
-def record_table(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
-    """``MotionController._obstacle_table``: ``--calls`` of its calls (drawn with the seeded generator), each with the
-    robot's position, its obstacles as (x, y, keep, kept) rows (kept 0: a robot's (x, y)), the goals' rows, the
-    robot radius, clearance and planning range, and the table given."""
-    from nubot_control.motion import MotionController
-
-    recorded, kept = record_calls(MotionController, "_obstacle_table", seeds, seconds, calls)
-    print(f"golden: {len(recorded)} obstacle tables, {len(kept)} kept", file=sys.stderr)
-    given, goals, tables, scalars = [], [], [], []
-    for i in kept:
-        (motion, me, obstacles), _, table = recorded[i]
-        given.append(np.array([(o[0], o[1], o[2], 1.0) if len(o) > 2 else (o[0], o[1], 0.0, 0.0)
-                               for o in obstacles], dtype=float).reshape(-1, 4))
-        goals.append(np.array(motion.goal_table, dtype=float).reshape(-1, 3))
-        tables.append(np.array(table, dtype=float).reshape(-1, 3))
-        scalars.append((me.x, me.y, motion.robot_radius, motion.params.clearance, motion.params.planning_range))
-    trace = {"scalars": np.array(scalars).reshape(-1, 5)}
-    for name, rows, width in (("obstacles", given, 4), ("goals", goals, 3), ("table", tables, 3)):
-        trace[name], trace[f"{name}_offsets"] = _ragged(rows, width)
-    return trace
 
 
 def record_obstacles(seeds: list[int], seconds: float, trackers: int) -> dict[str, np.ndarray]:
@@ -464,38 +271,23 @@ def record_labels(seeds: list[int], seconds: float, calls: int) -> dict[str, np.
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("mpc", "plan", "obstacles", "labels", "clear", "states", "accel", "table",
-                                           "follow"))
+    ap.add_argument("piece", choices=("follow", "obstacles", "labels"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
-    ap.add_argument("--per-status", type=int, default=500, help="mpc: calls kept of each way a command was found")
-    ap.add_argument("--calls", type=int, default=600, help="plan, labels, clear, states, accel, table: calls kept")
-    ap.add_argument("--every", type=int, default=8, help="plan: every n-th sample of a trajectory kept")
+    ap.add_argument("--calls", type=int, default=600, help="labels: calls kept")
     ap.add_argument("--tracker", choices=("mpc", "baseline"), default="mpc",
                     help="follow: the robots' tracker in the matches played")
     ap.add_argument("--trackers", type=int, default=3,
                     help="obstacles, follow: robots whose obstacle tracker or motion layer is kept")
     args = ap.parse_args(argv)
-    if args.seeds < 1 or not args.seconds > 0 or args.per_status < 1 or args.calls < 1 or args.every < 1:
-        ap.error("--seeds, --seconds, --per-status, --calls and --every must be positive")
+    if args.seeds < 1 or not args.seconds > 0 or args.calls < 1 or args.trackers < 1:
+        ap.error("--seeds, --seconds, --calls and --trackers must be positive")
     seeds = list(range(args.seeds))
-    if args.piece == "mpc":
-        trace = record_mpc(seeds, args.seconds, args.per_status)
-    elif args.piece == "plan":
-        trace = record_plan(seeds, args.seconds, args.calls, args.every)
+    if args.piece == "follow":
+        trace = record_follow(seeds, args.seconds, args.trackers, args.tracker)
     elif args.piece == "labels":
         trace = record_labels(seeds, args.seconds, args.calls)
-    elif args.piece == "clear":
-        trace = record_clear(seeds, args.seconds, args.calls)
-    elif args.piece == "states":
-        trace = record_states(seeds, args.seconds, args.calls)
-    elif args.piece == "accel":
-        trace = record_accel(seeds, args.seconds, args.calls)
-    elif args.piece == "table":
-        trace = record_table(seeds, args.seconds, args.calls)
-    elif args.piece == "follow":
-        trace = record_follow(seeds, args.seconds, args.trackers, args.tracker)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
     args.out.parent.mkdir(parents=True, exist_ok=True)
