@@ -26,3 +26,19 @@ def test_a_motion_layer_s_recorded_sequence_holds_every_cycle_of_the_robots_kept
     assert trace["scalars"].shape == (cycles, 9) and trace["answers"].shape == (cycles, 8)
     follows = trace["kind"] == 0
     assert np.isfinite(trace["answers"][follows, :3]).all(), "every cycle's command"
+
+
+def test_a_world_model_s_recorded_sequence_keeps_each_record_given_once_and_every_other_read():
+    from nubot_tools.golden import record_world
+
+    records = record_world([0], seconds=1.0, trackers=2)
+    objects = [r for r in records if "object" in r]
+    calls = [r for r in records if "call" in r]
+    assert records[:len(objects)] == objects, "the records given come first"
+    assert len({o["object"] for o in objects}) == len(objects)
+    keys = {a["@"] for c in calls for a in c["args"] if isinstance(a, dict) and "@" in a}
+    assert keys == {o["object"] for o in objects}, "every record given is kept, and only those"
+    assert [c["call"] for c in calls if c["call"] == "__init__"] == ["__init__"] * 2
+    for read in ("snapshot", "own_view"):
+        results = [c["result"] for c in calls if c["call"] == read and c["robot"] == 0]
+        assert results[0] is not None and results[1] is None and results[2] is not None, "every other read kept"

@@ -13,13 +13,19 @@ everything it was given (the robot's pose, the route, the heading, the obstacles
 holding, the areas to keep out of, urgent) and what it gave (the body-frame command, the reference, whether it made a
 new plan). A motion layer fed the same sequence from its start must answer the same way, cycle after cycle.
 
+``python -m nubot_tools.golden world --out FILE`` records whole sequences of ``WorldModel`` calls: every input
+(``on_vision``, ``on_front_ball``, ``on_ball3d``, ``on_teammate``, ``on_teammate_strategy``, ``on_coach``,
+``on_strategy``) and every read (``snapshot``, ``own_view``) of ``--trackers`` robots' world models in order, with its
+arguments and what it gave, as JSON lines (xz): each a tagged tree (``encode``). A world model fed the same inputs from
+its start must read the same.
+
 ``python -m nubot_tools.golden labels --out FILE`` records ``--calls`` of the world models' ``label_obstacles`` calls
 (their inputs and the labelled obstacles they gave).
 
 ``python -m nubot_tools.golden obstacles --out FILE`` records every call of ``--trackers`` robots' obstacle trackers
 (``ObstacleTracker.update`` and ``estimate``), in order.
 
-The file is numpy's compressed ``.npz``.
+The file is numpy's compressed ``.npz`` (``world``: JSON lines, xz-compressed).
 """
 
 from __future__ import annotations
@@ -237,6 +243,115 @@ def record_follow(seeds: list[int], seconds: float, trackers: int, tracker: str 
     return trace
 
 
+WORLD_CALLS = ("on_vision", "on_front_ball", "on_ball3d", "on_teammate", "on_teammate_strategy", "on_coach",
+               "on_strategy", "snapshot", "own_view")
+
+
+def encode(value: Any) -> Any:
+    """A tagged JSON tree of ``value``: a record (dataclass, named tuple) as {"_": its class, "f": its fields in
+    order}, an enum member as {"_e": its class, "v": its value}, a tuple as {"_t": its items}."""
+    import enum
+
+    if isinstance(value, enum.Enum):
+        return {"_e": type(value).__name__, "v": value.value}
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {"_": type(value).__name__, "f": [encode(getattr(value, f.name)) for f in dataclasses.fields(value)]}
+    if isinstance(value, tuple) and hasattr(value, "_fields"):
+        return {"_": type(value).__name__, "f": [encode(v) for v in value]}
+    if isinstance(value, tuple):
+        return {"_t": [encode(v) for v in value]}
+    if isinstance(value, list):
+        return [encode(v) for v in value]
+    if isinstance(value, dict):
+        return {"_d": [[encode(k), encode(v)] for k, v in value.items()]}
+    if isinstance(value, (bool, int, float, str)) or value is None:
+        return value
+    if isinstance(value, bytes):
+        return {"_b": value.decode("latin-1")}
+    raise TypeError(f"golden: cannot record a {type(value).__name__}")
+
+
+def _rounded(tree: Any) -> Any:
+    """``tree`` with its floats to 12 significant digits."""
+    if isinstance(tree, float):
+        return float(f"{tree:.12g}")
+    if isinstance(tree, list):
+        return [_rounded(v) for v in tree]
+    if isinstance(tree, dict):
+        return {k: _rounded(v) for k, v in tree.items()}
+    return tree
+
+
+def record_world(seeds: list[int], seconds: float, trackers: int) -> list[dict]:
+    """Every call of ``trackers`` robots' ``WorldModel`` (a goalie, whose RGB-D cameras see the ball in 3-D, first if
+    there is one, then its teammates; the rest drawn with the seeded generator), in order: first the records given as
+    arguments, each once ({"object": key, "value"}), then the calls ({"robot", "call", "args", "result"}, an argument
+    {"@": key} one of those records); of the reads (``snapshot``, ``own_view``) every other result is kept (None: not
+    kept), to 12 significant digits."""
+    from world_model.world_model import WorldModel
+
+    calls: dict[int, list[dict]] = {}
+    made: list[Any] = []
+    originals = {name: getattr(WorldModel, name) for name in WORLD_CALLS}
+
+    shared: dict[int, tuple[Any, Any]] = {}  # the records given to several world models (a relayed packet): by id
+
+    def argument(value: Any) -> Any:
+        if isinstance(value, (bool, int, float, str, bytes)) or value is None:
+            return encode(value)
+        if id(value) not in shared:
+            shared[id(value)] = (value, encode(value))  # kept alive: ids stay unique
+        return {"@": id(value)}
+
+    def recorder(name: str) -> Callable[..., Any]:
+        def recording(self: Any, *args: Any) -> Any:
+            result = originals[name](self, *args)
+            if id(self) not in calls:
+                calls[id(self)] = []
+                made.append(self)  # kept alive: ids stay unique
+            calls[id(self)].append({"call": name, "args": [argument(a) for a in args], "result": encode(result)})
+            return result
+        return recording
+
+    for name in WORLD_CALLS:
+        setattr(WorldModel, name, recorder(name))
+    try:
+        play(seeds, seconds)
+    finally:
+        for name, original in originals.items():
+            setattr(WorldModel, name, original)
+    rng = np.random.default_rng(0)
+    order = [int(i) for i in rng.permutation(len(made))]
+    goalies = [i for i in order if any(c["call"] == "on_ball3d" for c in calls[id(made[i])])]
+    first = goalies[:1] or order[:1]
+    # the first one's teammates next: they are given the same packets, kept once
+    heard = _packets(calls[id(made[first[0]])])
+    team = [i for i in order if i not in first and _packets(calls[id(made[i])]) & heard]
+    chosen = (first + team + [i for i in order if i not in first and i not in team])[:trackers]
+    records: list[dict] = []
+    used: set[int] = set()
+    for n, i in enumerate(sorted(chosen)):
+        model = made[i]
+        records.append({"robot": n, "call": "__init__", "args": encode([model.params, model.agent_id, model.world]),
+                        "result": None})
+        reads = {"snapshot": 0, "own_view": 0}
+        for c in calls[id(model)]:
+            if c["call"] in reads:  # what a world model reads out: every other one is kept, its numbers to 12
+                reads[c["call"]] += 1  # digits (a test compares them to 1e-9); every input is kept exactly
+                c = {**c, "result": _rounded(c["result"]) if reads[c["call"]] % 2 else None}
+            used.update(a["@"] for a in c["args"] if isinstance(a, dict) and "@" in a)
+            records.append({"robot": n, **c})
+    objects = [{"object": key, "value": shared[key][1]} for key in sorted(used)]
+    print(f"golden: {len(made)} world models, {len(chosen)} kept, {len(records)} calls, {len(objects)} records "
+          "given", file=sys.stderr)
+    return objects + records
+
+
+def _packets(calls: list[dict]) -> set[int]:
+    """The keys of the teammates' packets a world model was given."""
+    return {c["args"][1]["@"] for c in calls if c["call"] == "on_teammate"}
+
+
 def record_labels(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
     """``--calls`` of the world models' ``label_obstacles`` calls (drawn with the seeded generator): this robot's pose
     and AgentID, its own obstacles and their velocities, the teammates' reported obstacles (observer, x, y) and
@@ -271,7 +386,7 @@ def record_labels(seeds: list[int], seconds: float, calls: int) -> dict[str, np.
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("follow", "obstacles", "labels"))
+    ap.add_argument("piece", choices=("follow", "world", "obstacles", "labels"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
@@ -279,11 +394,21 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tracker", choices=("mpc", "baseline"), default="mpc",
                     help="follow: the robots' tracker in the matches played")
     ap.add_argument("--trackers", type=int, default=3,
-                    help="obstacles, follow: robots whose obstacle tracker or motion layer is kept")
+                    help="obstacles, follow, world: robots whose obstacle tracker, motion layer or world model is kept")
     args = ap.parse_args(argv)
     if args.seeds < 1 or not args.seconds > 0 or args.calls < 1 or args.trackers < 1:
         ap.error("--seeds, --seconds, --calls and --trackers must be positive")
     seeds = list(range(args.seeds))
+    if args.piece == "world":
+        import lzma
+
+        records = record_world(seeds, args.seconds, args.trackers)
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        with lzma.open(args.out, "wt", encoding="utf-8", preset=9) as out:
+            for record in records:
+                out.write(json.dumps(record) + "\n")
+        print(f"golden: world trace written to {args.out} ({args.out.stat().st_size // 1024} KiB)", file=sys.stderr)
+        return 0
     if args.piece == "follow":
         trace = record_follow(seeds, args.seconds, args.trackers, args.tracker)
     elif args.piece == "labels":
