@@ -13,7 +13,9 @@ targets=(nubot_control_kernels world_model_kernels)
 tests=(src/nubot_control/test/unit/test_mpc.py src/nubot_control/test/unit/test_path_planning.py
        src/nubot_control/test/unit/test_kernels.py src/nubot_control/test/unit/test_motion.py
        src/nubot_control/test/unit/test_chances.py
-       src/world_model/test/unit/test_obstacles.py)
+       src/world_model/test/unit/test_obstacles.py src/world_model/test/unit/test_ball_fusion.py
+       src/world_model/test/unit/test_world_model.py src/world_model/test/unit/test_sensor_fusion.py
+       src/world_model/test/unit/test_world_model_golden.py)
 
 echo "[sanitize] building ${targets[*]} with -fsanitize=address,undefined into $kernels"
 if ! catkin_make --build "$build" -DCATKIN_DEVEL_PREFIX="$build/devel" -DNUBOT_SANITIZE=ON \

@@ -7,44 +7,33 @@ positions of the last ``velocity_window`` seconds, in closed form; the noisy per
 velocities are never used), ``BallCandidate`` and ``choose_ball`` (own sensors first,
 else the valid teammate nearest to the ball it reports, then the freshest) and
 ``ball_confidence`` (in [0, 1]: decays linearly to 0 at ``ball_timeout``, grows with
-the number of robots seeing the ball). Units: [s], [m], [m/s].
+the number of robots seeing the ball). Units: [s], [m], [m/s]. Compiled (``world_model._kernels``, from
+``cpp/fusion.cpp``, where ``WorldModel``'s own fusion uses them); this module is their Python API.
 """
 
 from __future__ import annotations
 
-import math
-from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from nubot_common.geometry import Pose2D
+from nubot_common.kernels import load_kernels
 from nubot_common.percepts import BallPercept
 from nubot_common.world_state import BallSource
 
-_TIME_JUMP = 1.0  # an observation this much older than the newest one means the clock went back [s]
+if TYPE_CHECKING:
+    from world_model import _kernels  # its interface: _kernels.pyi
+else:
+    _kernels = load_kernels("world_model")
 
 
 def fit_velocity(samples: Sequence[tuple[float, float, float]], min_samples: int) -> tuple[float, float] | None:
-    """Slope (vx, vy) [m/s] of the least-squares lines x(t), y(t) through (t, x, y); None if underdetermined."""
-    if len(samples) < min_samples:
-        return None
-    # The closed-form slope sum((t - mean t)(x - mean x)) / sum((t - mean t)^2), what numpy.polyfit's degree-1
-    # fit gives up to rounding, in plain floats: a dozen samples each cycle cost less than numpy's call overhead.
-    last = samples[-1][0]
-    times = [s[0] - last for s in samples]  # relative times keep the fit well conditioned
-    if max(times) - min(times) < 1e-6:
-        return None
-    n = len(samples)
-    t_mean = sum(times) / n
-    x_mean = sum(s[1] for s in samples) / n
-    y_mean = sum(s[2] for s in samples) / n
-    stt = sxt = syt = 0.0
-    for dt, (_, x, y) in zip(times, samples):
-        dt -= t_mean
-        stt += dt * dt
-        sxt += dt * (x - x_mean)
-        syt += dt * (y - y_mean)
-    return sxt / stt, syt / stt
+    """Slope (vx, vy) [m/s] of the least-squares lines x(t), y(t) through (t, x, y); None if underdetermined (fewer
+    than ``min_samples``, or no spread in time). Times are taken relative to the last sample, so the fit stays well
+    conditioned; it is what numpy.polyfit's degree-1 fit gives, up to rounding."""
+    velocity = _kernels.fit_velocity(samples, min_samples)
+    return None if velocity is None else (velocity[0], velocity[1])
 
 
 class BallTrack:
@@ -52,46 +41,29 @@ class BallTrack:
 
     def __init__(self, keep: float):
         self.keep = keep  # observations older than this behind the newest are dropped [s]
-        self._samples: deque[BallPercept] = deque()
-        self._fitted: tuple[object, tuple[float, float] | None] | None = None  # (key, velocity) of the last fit
+        self._track = _kernels.BallTrack(keep)
 
     def __len__(self) -> int:
-        return len(self._samples)
+        return len(self._track)
 
     @property
     def latest(self) -> BallPercept | None:
-        return self._samples[-1] if self._samples else None
+        latest = self._track.latest
+        return None if latest is None else BallPercept(*latest)
 
     def add(self, obs: BallPercept) -> None:
-        """Append ``obs``; a repeat (the relay resends the latest message) or a late one is ignored."""
-        latest = self.latest
-        if latest is not None and obs.stamp <= latest.stamp:
-            if obs.stamp >= latest.stamp - _TIME_JUMP:
-                return
-            self._samples.clear()  # the clock went back (simulator restarted)
-        self._samples.append(obs)
-        self._fitted = None
-        while self._samples[0].stamp < obs.stamp - self.keep:
-            self._samples.popleft()
+        """Append ``obs``; a repeat (the relay resends the latest message) or a late one is ignored; one far older
+        than the newest (the clock went back: a restarted simulation) starts the track anew."""
+        self._track.add(obs.stamp, obs.x, obs.y, obs.vx, obs.vy, obs.velocity_known)
 
     def clear(self) -> None:
-        self._samples.clear()
-        self._fitted = None
+        self._track.clear()
 
     def velocity(self, window: float, min_samples: int) -> tuple[float, float] | None:
-        """Least-squares velocity over the observations within ``window`` of the newest one.
-
-        The fit depends on the observations only, so it is made once per new observation (a world
-        model asks for it several times a cycle: its snapshot, the packet it shares).
-        """
-        latest = self.latest
-        if latest is None:
-            return None
-        key = (window, min_samples)
-        if self._fitted is None or self._fitted[0] != key:
-            recent = [(o.stamp, o.x, o.y) for o in self._samples if o.stamp >= latest.stamp - window]
-            self._fitted = (key, fit_velocity(recent, min_samples))
-        return self._fitted[1]
+        """Least-squares velocity over the observations within ``window`` of the newest one (made once per new
+        observation)."""
+        velocity = self._track.velocity(window, min_samples)
+        return None if velocity is None else (velocity[0], velocity[1])
 
 
 @dataclass(frozen=True)
@@ -111,24 +83,14 @@ class BallCandidate:
 
 
 def choose_ball(own: BallCandidate | None, team: Sequence[BallCandidate]) -> BallCandidate | None:
-    """Own sensors first; else the teammate nearest to its ball, the freshest on a tie."""
+    """Own sensors first; else the teammate nearest to its ball, the freshest on a tie, then the lower AgentID."""
     if own is not None:
         return own
-    if not team:
-        return None
-    return min(team, key=lambda c: (c.distance, c.age, c.agent_id))
+    best = _kernels.choose_ball([(c.agent_id, c.observation.x, c.observation.y, c.observer.x, c.observer.y,
+                                  c.observer.theta, c.age) for c in team])
+    return team[best] if best >= 0 else None
 
 
 def ball_confidence(age: float, sightings: int, ball_timeout: float, sighting_confidence: float) -> float:
     """Confidence in [0, 1]: freshness (1 now, 0 at ``ball_timeout``) times support from ``sightings`` robots."""
-    if sightings <= 0:
-        return 0.0
-    freshness = min(1.0, max(0.0, 1.0 - age / ball_timeout))
-    support = 1.0 - (1.0 - sighting_confidence) ** sightings
-    return freshness * support
-
-
-def agreeing(candidates: Sequence[BallCandidate], x: float, y: float, radius: float) -> tuple[int, ...]:
-    """AgentIDs whose ball lies within ``radius`` of (x, y), sorted."""
-    return tuple(sorted({c.agent_id for c in candidates
-                         if math.hypot(c.observation.x - x, c.observation.y - y) <= radius}))
+    return _kernels.ball_confidence(age, sightings, ball_timeout, sighting_confidence)

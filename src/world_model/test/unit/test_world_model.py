@@ -1,5 +1,7 @@
 """Unit tests of the WorldModel agent: ball fusion, teammate validity, own shared state, bad input."""
 
+import math
+
 import pytest
 
 from nubot_common.percepts import BallPercept, RobotView
@@ -176,3 +178,21 @@ def test_balls_and_robots_off_the_field_are_not_believed(make_model, see, mate_v
     assert model.snapshot(10.1).ball.known, "on the border: it can be there"
     model.on_teammate(10.1, mate_view(10.1, 2, 0.0, 7.5))
     assert not model.snapshot(10.1).robots[1].valid, "a teammate reporting itself 1.5 m off the field is lost"
+
+
+def test_percepts_that_are_not_finite_are_nothing_seen_and_the_world_stays_finite(make_model, see, mate_view):
+    """A NaN or infinite ball, obstacle or teammate position (a broken camera, a hostile packet) is not taken for one:
+    the snapshot the strategy reads holds numbers only, and a teammate that is nowhere is not valid."""
+    model = make_model(agent_id=1)
+    nan, inf = math.nan, math.inf
+    see(model, 10.0, ball=(nan, 2.0), obstacles=((1.0, 1.0), (nan, 0.0), (inf, 3.0)))
+    model.on_teammate(10.0, mate_view(10.0, 2, nan, 1.0, ball=(inf, 0.0), obstacles=((nan, nan), (4.0, -1.0))))
+    state = model.snapshot(10.02)
+    assert not state.ball.known, "no ball is where nothing finite was seen"
+    assert not state.robots[1].valid, "a teammate reported nowhere is not valid"
+    assert [(o.x, o.y) for o in state.obstacles] == [pytest.approx((1.0, 1.0))]
+    numbers = [state.ball.x, state.ball.y, state.ball.angle, state.ball.radius]
+    numbers += [v for o in state.obstacles for v in (o.x, o.y, o.angle, o.radius, o.vx, o.vy)]
+    assert all(math.isfinite(v) for v in numbers)
+    view = model.own_view(10.02)
+    assert view is not None and view.ball is None and len(view.obstacles) == 1
