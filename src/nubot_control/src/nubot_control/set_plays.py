@@ -24,6 +24,7 @@ from nubot_common.world_state import FusedBall
 from nubot_control.params import PlayParams
 
 _MARGIN = 0.3  # kept beyond every rule distance [m]
+_GOALIE_LINE = 0.4  # the goalie waits this far in front of its goal line [m]
 _TAKER_GAP = 0.55  # the taker waits this far from the ball centre, facing it [m]
 
 
@@ -53,9 +54,34 @@ def _inside(x: float, y: float, field: FieldGeometry, margin: float = 0.5) -> tu
             max(-field.half_width + margin, min(field.half_width - margin, y)))
 
 
+def clear_of(x: float, y: float, ball: FusedBall, radius: float, field: FieldGeometry,
+             margin: float = 0.5) -> tuple[float, float]:
+    """The point nearest (x, y) that lies on the field, ``margin`` inside its lines, and at least ``radius`` from the
+    ball: (x, y) itself, pushed out of the circle around the ball, or where the circle meets the lines there, so that
+    a ball near a goal line or a corner never sends a robot off the field or behind a goal."""
+    lo_x, hi_x = -field.half_length + margin, field.half_length - margin
+    lo_y, hi_y = -field.half_width + margin, field.half_width - margin
+    px, py = min(max(x, lo_x), hi_x), min(max(y, lo_y), hi_y)
+    if math.hypot(px - ball.x, py - ball.y) >= radius:
+        return px, py
+    qx, qy = keep_away(px, py, ball, radius)
+    candidates = [(qx, qy)] if lo_x <= qx <= hi_x and lo_y <= qy <= hi_y else []
+    for line_x in (lo_x, hi_x):  # where the circle crosses the lines, each way
+        h = radius * radius - (line_x - ball.x) ** 2
+        candidates += [(line_x, ball.y + s * math.sqrt(h)) for s in (-1.0, 1.0) if h >= 0.0]
+    for line_y in (lo_y, hi_y):
+        h = radius * radius - (line_y - ball.y) ** 2
+        candidates += [(ball.x + s * math.sqrt(h), line_y) for s in (-1.0, 1.0) if h >= 0.0]
+    eps = 1e-9
+    inside = [(cx, cy) for cx, cy in candidates if lo_x - eps <= cx <= hi_x + eps and lo_y - eps <= cy <= hi_y + eps]
+    if not inside:  # the circle covers the whole field: as far as the field allows
+        return min(max(qx, lo_x), hi_x), min(max(qy, lo_y), hi_y)
+    return min(inside, key=lambda c: math.hypot(c[0] - x, c[1] - y))
+
+
 def _goalie_spot(ball: FusedBall, field: FieldGeometry) -> Pose2D:
     y = max(-field.goal_width / 2 + 0.3, min(field.goal_width / 2 - 0.3, ball.y * 0.3))
-    return _facing(-field.half_length + 0.4, y, ball.x, ball.y)
+    return _facing(-field.half_length + _GOALIE_LINE, y, ball.x, ball.y)
 
 
 def _defensive_spots(ball: FusedBall, field: FieldGeometry, count: int, radius: float) -> list[tuple[float, float]]:
@@ -92,8 +118,11 @@ def formation(mode: MatchMode, ball: FusedBall, team: list[RobotReport], roles: 
         spots = _defensive_spots(ball, field, len(field_ids), radius + 1.0)
         for k, i in enumerate(field_ids):
             x, y = (ball.x - radius, ball.y) if k == 0 else spots[k]
-            x, y = keep_away(*_inside(x, y, field), ball, radius)
+            x, y = clear_of(x, y, ball, radius, field)
             targets[i] = _facing(x, y, ball.x, ball.y)
+        if goalie:
+            gx, gy = clear_of(targets[goalie].x, targets[goalie].y, ball, radius, field, _GOALIE_LINE)
+            targets[goalie] = _facing(gx, gy, ball.x, ball.y)
         return Formation(targets)
     if mode in (MatchMode.OUR_KICKOFF, MatchMode.OPP_KICKOFF):
         return _kickoff(mode == MatchMode.OUR_KICKOFF, ball, field_ids, targets, field, play)
@@ -105,10 +134,10 @@ def formation(mode: MatchMode, ball: FusedBall, team: list[RobotReport], roles: 
         radius = play.set_play_distance + _MARGIN
         spots = _defensive_spots(ball, field, len(field_ids), radius)
         for i, (x, y) in zip(field_ids, spots):
-            x, y = keep_away(x, y, ball, radius)
+            x, y = clear_of(x, y, ball, radius, field)
             targets[i] = _facing(x, y, ball.x, ball.y)
         if goalie:
-            gx, gy = keep_away(targets[goalie].x, targets[goalie].y, ball, radius)
+            gx, gy = clear_of(targets[goalie].x, targets[goalie].y, ball, radius, field, _GOALIE_LINE)
             targets[goalie] = _facing(gx, gy, ball.x, ball.y)
         return Formation(targets)
     return Formation({i: poses[i] for i in ids})  # STARTROBOT, TEST: no formation

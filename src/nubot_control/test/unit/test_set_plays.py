@@ -17,7 +17,8 @@ FIELD, PLAY = FieldGeometry(), PlayParams(goalie_id=1)
 TEAM = [RobotReport(i, Pose2D(x, y, 0.0)) for i, (x, y) in
         {1: (-8.5, 0.0), 2: (1.0, 0.0), 3: (-2.0, 3.0), 4: (-4.0, -2.0), 5: (-6.0, 0.0)}.items()]
 ROLES = {1: Role.GOALIE, 2: Role.ACTIVE, 3: Role.ASSISTANT, 4: Role.PASSIVE, 5: Role.MIDFIELD}
-BALLS = [FusedBall(0.0, 0.0), FusedBall(4.0, 5.9), FusedBall(-8.9, -5.9), FusedBall(-6.0, 0.5), FusedBall(8.0, -3.0)]
+BALLS = [FusedBall(0.0, 0.0), FusedBall(4.0, 5.9), FusedBall(-8.9, -5.9), FusedBall(-6.0, 0.5), FusedBall(8.0, -3.0),
+         FusedBall(-8.0, 0.9), FusedBall(-8.9, 0.0)]  # the last two near the own goal: the goalie has to step aside
 
 
 @pytest.mark.parametrize("ball", BALLS)
@@ -27,7 +28,7 @@ def test_opponent_set_pieces_keep_three_metres(mode, ball):
     assert set(plan.targets) == {1, 2, 3, 4, 5}
     for agent, pose in plan.targets.items():
         assert math.hypot(pose.x - ball.x, pose.y - ball.y) >= 3.0, f"robot {agent} too close at {mode.name}"
-        assert FIELD.is_inside(pose.x, pose.y, FIELD.border)
+        assert FIELD.is_inside(pose.x, pose.y), f"robot {agent} sent off the field (behind a goal) at {pose}"
 
 
 def test_kickoffs_keep_everyone_in_the_own_half():
@@ -48,6 +49,15 @@ def test_drop_ball_keeps_one_metre(ball):
     plan = formation(MatchMode.DROPBALL, ball, TEAM, ROLES, FIELD, PLAY)
     for pose in plan.targets.values():
         assert math.hypot(pose.x - ball.x, pose.y - ball.y) >= 1.0
+        assert FIELD.is_inside(pose.x, pose.y)
+
+
+def test_the_goalie_steps_along_its_goal_line_out_of_a_set_pieces_circle():
+    ball = FusedBall(-8.0, 0.9)
+    goalie = formation(MatchMode.OPP_FREEKICK, ball, TEAM, ROLES, FIELD, PLAY).targets[1]
+    assert goalie.x == pytest.approx(-FIELD.half_length + 0.4), "still on its line in front of the goal"
+    assert math.hypot(goalie.x - ball.x, goalie.y - ball.y) == pytest.approx(3.3), "just outside the circle"
+    assert goalie.y < 0.0, "on the side nearer its own spot, away from the ball"
 
 
 @pytest.mark.parametrize("mode", sorted(OUR_SET_PLAYS - {MatchMode.OUR_KICKOFF, MatchMode.OUR_PENALTY}))
