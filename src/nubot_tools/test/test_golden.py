@@ -8,7 +8,7 @@ from nubot_tools.golden import main, record_follow
 
 
 def test_bad_options_are_refused(tmp_path, capsys):
-    for options in (["--seeds", "0"], ["--seconds", "-1"], ["--calls", "0"], ["--trackers", "0"]):
+    for options in (["--seeds", "0"], ["--seconds", "-1"], ["--trackers", "0"]):
         with pytest.raises(SystemExit) as exit_:
             main(["follow", "--out", str(tmp_path / "x.npz"), *options])
         assert exit_.value.code == 2

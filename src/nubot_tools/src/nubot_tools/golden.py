@@ -19,9 +19,6 @@ new plan). A motion layer fed the same sequence from its start must answer the s
 arguments and what it gave, as JSON lines (xz): each a tagged tree (``encode``). A world model fed the same inputs from
 its start must read the same.
 
-``python -m nubot_tools.golden labels --out FILE`` records ``--calls`` of the world models' ``label_obstacles`` calls
-(their inputs and the labelled obstacles they gave).
-
 ``python -m nubot_tools.golden obstacles --out FILE`` records every call of ``--trackers`` robots' obstacle trackers
 (``ObstacleTracker.update`` and ``estimate``), in order.
 
@@ -67,38 +64,16 @@ def _ragged(rows: list[np.ndarray], width: int) -> tuple[np.ndarray, np.ndarray]
     return flat, offsets
 
 
-def record_calls(module: Any, name: str, seeds: list[int], seconds: float,
-                 calls: int) -> tuple[list[tuple[tuple, dict, Any]], list[int]]:
-    """Every call of the function ``module.name`` (or the method, when ``module`` is a class: ``self`` first) during
-    the matches, as (args, kwargs, result), and which ``calls`` of them to keep (drawn with the seeded generator, in
-    order)."""
-    recorded = record_many(module, [name], seeds, seconds)[name]
-    rng = np.random.default_rng(0)
-    kept = sorted(int(i) for i in rng.choice(len(recorded), size=min(calls, len(recorded)), replace=False))
-    return recorded, kept
-
-
-def record_many(owner: Any, names: list[str], seeds: list[int],
-                seconds: float) -> dict[str, list[tuple[tuple, dict, Any]]]:
-    """Every call of each of ``owner``'s functions (or methods) ``names`` during one set of matches."""
-    recorded: dict[str, list[tuple[tuple, dict, Any]]] = {name: [] for name in names}
-    originals = {name: getattr(owner, name) for name in names}
-
-    def recorder(name: str) -> Callable[..., Any]:
-        def recording(*args: Any, **kwargs: Any) -> Any:
-            result = originals[name](*args, **kwargs)
-            recorded[name].append((args, kwargs, result))
-            return result
-        return recording
-
-    for name in names:
-        setattr(owner, name, recorder(name))
+def play_wrapped(owner: Any, wrappers: dict[str, Callable[..., Any]], seeds: list[int], seconds: float) -> None:
+    """Play the matches with ``owner``'s attributes replaced by ``wrappers``, then put the originals back."""
+    originals = {name: getattr(owner, name) for name in wrappers}
+    for name, wrapper in wrappers.items():
+        setattr(owner, name, wrapper)
     try:
         play(seeds, seconds)
     finally:
         for name, original in originals.items():
             setattr(owner, name, original)
-    return recorded
 
 
 def record_obstacles(seeds: list[int], seconds: float, trackers: int) -> dict[str, np.ndarray]:
@@ -313,13 +288,7 @@ def record_world(seeds: list[int], seconds: float, trackers: int) -> list[dict]:
             return result
         return recording
 
-    for name in WORLD_CALLS:
-        setattr(WorldModel, name, recorder(name))
-    try:
-        play(seeds, seconds)
-    finally:
-        for name, original in originals.items():
-            setattr(WorldModel, name, original)
+    play_wrapped(WorldModel, {name: recorder(name) for name in WORLD_CALLS}, seeds, seconds)
     rng = np.random.default_rng(0)
     order = [int(i) for i in rng.permutation(len(made))]
     goalies = [i for i in order if any(c["call"] == "on_ball3d" for c in calls[id(made[i])])]
@@ -352,52 +321,19 @@ def _packets(calls: list[dict]) -> set[int]:
     return {c["args"][1]["@"] for c in calls if c["call"] == "on_teammate"}
 
 
-def record_labels(seeds: list[int], seconds: float, calls: int) -> dict[str, np.ndarray]:
-    """``--calls`` of the world models' ``label_obstacles`` calls (drawn with the seeded generator): this robot's pose
-    and AgentID, its own obstacles and their velocities, the teammates' reported obstacles (observer, x, y) and
-    positions (AgentID, x, y), the two radii, and the labelled obstacles it gave (x, y, teammate or not, the teammate,
-    observer, angle, radius, vx, vy)."""
-    from nubot_common.world_state import ObstacleLabel
-    from world_model import world_model
-
-    # the name WorldModel.snapshot calls
-    recorded, kept = record_calls(world_model, "label_obstacles", seeds, seconds, calls)
-    print(f"golden: {len(recorded)} labellings, {len(kept)} kept", file=sys.stderr)
-    me, agent, radii = [], [], []
-    own, velocities, reported, mates, labelled = [], [], [], [], []
-    for i in kept:
-        (pose, agent_id, own_points, by_observer, mate_points, teammate_radius, merge_radius, speeds), _, result = \
-            recorded[i]
-        me.append((pose.x, pose.y, pose.theta))
-        agent.append(agent_id)
-        radii.append((teammate_radius, merge_radius))
-        own.append(np.array(own_points, dtype=float).reshape(-1, 2))
-        velocities.append(np.array(speeds, dtype=float).reshape(-1, 2))
-        reported.append(np.array([(o, *p) for o in by_observer for p in by_observer[o]], dtype=float).reshape(-1, 3))
-        mates.append(np.array([(a, *p) for a, p in mate_points.items()], dtype=float).reshape(-1, 3))
-        labelled.append(np.array([(o.x, o.y, o.label is ObstacleLabel.TEAMMATE, o.teammate_id, o.observer_id, o.angle,
-                                   o.radius, o.vx, o.vy) for o in result], dtype=float).reshape(-1, 9))
-    trace = {"me": np.array(me), "agent_id": np.array(agent), "radii": np.array(radii)}
-    for name, rows, width in (("own", own, 2), ("velocities", velocities, 2), ("reported", reported, 3),
-                              ("mates", mates, 3), ("labelled", labelled, 9)):
-        trace[name], trace[f"{name}_offsets"] = _ragged(rows, width)
-    return trace
-
-
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("follow", "world", "obstacles", "labels"))
+    ap.add_argument("piece", choices=("follow", "world", "obstacles"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
-    ap.add_argument("--calls", type=int, default=600, help="labels: calls kept")
     ap.add_argument("--tracker", choices=("mpc", "baseline"), default="mpc",
                     help="follow: the robots' tracker in the matches played")
     ap.add_argument("--trackers", type=int, default=3,
                     help="obstacles, follow, world: robots whose obstacle tracker, motion layer or world model is kept")
     args = ap.parse_args(argv)
-    if args.seeds < 1 or not args.seconds > 0 or args.calls < 1 or args.trackers < 1:
-        ap.error("--seeds, --seconds, --calls and --trackers must be positive")
+    if args.seeds < 1 or not args.seconds > 0 or args.trackers < 1:
+        ap.error("--seeds, --seconds and --trackers must be positive")
     seeds = list(range(args.seeds))
     if args.piece == "world":
         import lzma
@@ -411,8 +347,6 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if args.piece == "follow":
         trace = record_follow(seeds, args.seconds, args.trackers, args.tracker)
-    elif args.piece == "labels":
-        trace = record_labels(seeds, args.seconds, args.calls)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
     args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -227,7 +227,8 @@ LABELS = Path(__file__).resolve().parents[1] / "golden" / "labels.npz"
 
 def test_the_compiled_labelling_gives_the_python_labelling_s_golden_trace_exactly():
     """600 of the world models' 19,800 labellings in two seeded 30 s lockstep matches, as the Python implementation
-    made them (``python -m nubot_tools.golden labels --seeds 2 --seconds 30 --calls 600``): the same obstacles in the
+    made them (``python -m nubot_tools.golden labels --seeds 2 --seconds 30 --calls 600``, a recorder gone with the
+    Python it recorded): the same obstacles in the
     same order, with the same labels, teammates, observers and velocities to the last bit, the bearings and distances
     to 2 units in the last place: C's hypot and Python's own math.hypot differ in the last bit now and then (31 of
     the 10,938 bearings and distances here)."""
