@@ -39,7 +39,7 @@ def in_area(x: float, y: float, field: FieldGeometry, own: bool, goal_area: bool
             margin: float = 0.0) -> bool:
     """Whether (x, y) lies in the area (its line included), grown by ``margin``."""
     side, depth, half = _area(field, own, goal_area)
-    return x * side >= field.half_length - depth - margin and abs(y) <= half + margin
+    return (x * side >= field.half_length - depth - margin) & (abs(y) <= half + margin)  # numpy arrays too
 
 
 def _push_out(x: float, y: float, field: FieldGeometry, own: bool, goal_area: bool,

@@ -5,15 +5,20 @@ Provides: ``formation`` -> ``Formation`` (a target pose per AgentID, the taker a
 receiver of our set piece: the chapter's static pass ``staticpassNum``/``staticcatchNum``).
 Rules: at the opponent's set pieces every robot keeps ``set_play_distance`` (3 m) from the
 ball, and at kickoffs stays in its own half, outside the centre circle for the opponent's;
-at a drop ball everyone keeps ``drop_ball_distance`` (1 m); at the opponent's penalty only
+at a drop ball everyone keeps ``drop_ball_distance`` (1 m). The field robots' spots lie on the field, out of the
+penalty areas (the robot playing a drop ball: out of the goal areas) and 0.8 m apart, each the legal spot nearest
+its place on a ring between the ball and the own goal (``_spots``). At the opponent's penalty only
 the goalie stays near its goal, the others beyond the penalty area; PARKINGROBOT lines the
 team up along the side line of its own half.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
+
+import numpy as np
 
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D
@@ -21,11 +26,14 @@ from nubot_common.match_mode import OUR_SET_PLAYS, THEIR_SET_PLAYS, MatchMode
 from nubot_common.percepts import RobotReport
 from nubot_common.team_play import Role
 from nubot_common.world_state import FusedBall
+from nubot_control.areas import AREA_MARGIN, in_area
 from nubot_control.params import PlayParams
 
 _MARGIN = 0.3  # kept beyond every rule distance [m]
 _GOALIE_LINE = 0.4  # the goalie waits this far in front of its goal line [m]
 _TAKER_GAP = 0.55  # the taker waits this far from the ball centre, facing it [m]
+_APART = 0.8  # formation spots at least this far apart, centre to centre [m]
+_AREA_GAP = 0.3  # formation spots this far beyond the motion layer's wall around a penalty area [m]
 
 
 @dataclass(frozen=True)
@@ -84,16 +92,61 @@ def _goalie_spot(ball: FusedBall, field: FieldGeometry) -> Pose2D:
     return _facing(-field.half_length + _GOALIE_LINE, y, ball.x, ball.y)
 
 
-def _defensive_spots(ball: FusedBall, field: FieldGeometry, count: int, radius: float) -> list[tuple[float, float]]:
-    """Spots between the ball and the own goal on a ring ``radius`` around the ball, spread out."""
+def _ring(ball: FusedBall, field: FieldGeometry, count: int, radius: float) -> list[tuple[float, float]]:
+    """Ideal spots between the ball and the own goal on a ring ``radius`` around the ball, 0.6 rad apart."""
     own = (-field.half_length, 0.0)
     base = math.atan2(own[1] - ball.y, own[0] - ball.x)
-    spots = []
-    for k in range(count):
-        offset = (k - (count - 1) / 2.0) * 0.6
-        x, y = ball.x + radius * math.cos(base + offset), ball.y + radius * math.sin(base + offset)
-        spots.append(_inside(x, y, field))
+    return [(ball.x + radius * math.cos(base + (k - (count - 1) / 2.0) * 0.6),
+             ball.y + radius * math.sin(base + (k - (count - 1) / 2.0) * 0.6)) for k in range(count)]
+
+
+def _legal(x, y, ball: FusedBall, radius: float, field: FieldGeometry, penalty_areas: bool):  # floats or arrays
+    """Where a field robot may wait: on the field 0.5 m inside its lines, ``radius`` or more from the ball, and out
+    of both penalty areas (or, for the robot playing the ball, both goal areas) by more than the margin the motion
+    layer walls them off with (``areas``)."""
+    ok = (abs(x) <= field.half_length - 0.5 + 1e-9) & (abs(y) <= field.half_width - 0.5 + 1e-9)
+    ok = ok & ((x - ball.x) ** 2 + (y - ball.y) ** 2 >= (radius - 1e-9) ** 2)
+    for own in (True, False):
+        ok = ok & ~in_area(x, y, field, own, not penalty_areas, AREA_MARGIN + _AREA_GAP)
+    return ok
+
+
+def _spots(ideals: list[tuple[float, float]], ball: FusedBall, radius: float, field: FieldGeometry,
+           taken: tuple[tuple[float, float], ...] = (), penalty_areas: bool = True) -> list[tuple[float, float]]:
+    """One spot per ideal spot, in order: the ideal one moved onto the field out of the circle (``clear_of``) where it
+    is legal (``_legal``) and ``_APART`` from the spots already given (and from ``taken``), else the nearest such
+    spot on rings around the ball. Near the own goal the ring runs through the penalty area, into which the motion
+    layer would push every robot to the same point of its line."""
+    chosen = list(taken)
+    spots: list[tuple[float, float]] = []
+    grid = None
+    for ix, iy in ideals:
+        x, y = clear_of(ix, iy, ball, radius, field)
+        spot = (x, y)
+        if not (_legal(x, y, ball, radius, field, penalty_areas)
+                and all((x - px) ** 2 + (y - py) ** 2 >= _APART ** 2 for px, py in chosen)):
+            if grid is None:
+                gx, gy = _ring_offsets(radius)
+                gx, gy = gx + ball.x, gy + ball.y
+                legal = _legal(gx, gy, ball, radius, field, penalty_areas)
+                grid = gx[legal], gy[legal]
+            cost = (grid[0] - ix) ** 2 + (grid[1] - iy) ** 2
+            for px, py in chosen:
+                cost[(grid[0] - px) ** 2 + (grid[1] - py) ** 2 < _APART ** 2] = np.inf
+            k = int(np.argmin(cost)) if cost.size else -1
+            if k >= 0 and np.isfinite(cost[k]):  # else the field has no room left: the clamped ideal spot
+                spot = (float(grid[0][k]), float(grid[1][k]))
+        spots.append(spot)
+        chosen.append(spot)
     return spots
+
+
+@functools.lru_cache(maxsize=8)
+def _ring_offsets(radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """Points on rings from ``radius`` to ``radius + 2`` m around the origin, 0.5 m and 5 degrees apart."""
+    angle = np.radians(np.arange(0.0, 360.0, 5.0))
+    r = radius + np.arange(0.0, 2.01, 0.5)[:, None]
+    return (r * np.cos(angle)).ravel(), (r * np.sin(angle)).ravel()
 
 
 def formation(mode: MatchMode, ball: FusedBall, team: list[RobotReport], roles: dict[int, Role], field: FieldGeometry,
@@ -113,16 +166,25 @@ def formation(mode: MatchMode, ball: FusedBall, team: list[RobotReport], roles: 
         for k, i in enumerate(sorted(ids)):
             targets[i] = Pose2D(-1.0 - 1.2 * k, -field.half_width - 0.5, math.pi / 2)
         return Formation(targets)
-    if mode == MatchMode.DROPBALL:
-        radius = play.drop_ball_distance + _MARGIN
-        spots = _defensive_spots(ball, field, len(field_ids), radius + 1.0)
-        for k, i in enumerate(field_ids):
-            x, y = (ball.x - radius, ball.y) if k == 0 else spots[k]
-            x, y = clear_of(x, y, ball, radius, field)
-            targets[i] = _facing(x, y, ball.x, ball.y)
+    if mode in THEIR_SET_PLAYS - {MatchMode.OPP_KICKOFF, MatchMode.OPP_PENALTY} or mode == MatchMode.DROPBALL:
+        # Everyone keeps the rule's distance: the goalie along its line, the field robots on spots between the ball
+        # and the own goal; at a drop ball the robot playing the ball (first) waits right behind it.
+        drop = mode == MatchMode.DROPBALL
+        radius = (play.drop_ball_distance if drop else play.set_play_distance) + _MARGIN
+        taken: tuple[tuple[float, float], ...] = ()
         if goalie:
             gx, gy = clear_of(targets[goalie].x, targets[goalie].y, ball, radius, field, _GOALIE_LINE)
             targets[goalie] = _facing(gx, gy, ball.x, ball.y)
+            taken = ((gx, gy),)
+        ring = _ring(ball, field, len(field_ids), radius + (1.0 if drop else 0.0))
+        if drop and field_ids:
+            ring[0] = (ball.x - radius, ball.y)
+            first = _spots(ring[:1], ball, radius, field, taken, penalty_areas=False)
+            spots = first + _spots(ring[1:], ball, radius, field, taken + tuple(first))
+        else:
+            spots = _spots(ring, ball, radius, field, taken)
+        for i, (x, y) in zip(field_ids, spots):
+            targets[i] = _facing(x, y, ball.x, ball.y)
         return Formation(targets)
     if mode in (MatchMode.OUR_KICKOFF, MatchMode.OPP_KICKOFF):
         return _kickoff(mode == MatchMode.OUR_KICKOFF, ball, field_ids, targets, field, play)
@@ -130,16 +192,6 @@ def formation(mode: MatchMode, ball: FusedBall, team: list[RobotReport], roles: 
         return _penalty(mode == MatchMode.OUR_PENALTY, ball, field_ids, targets, field, play)
     if mode in OUR_SET_PLAYS:
         return _our_restart(ball, field_ids, targets, field, play)
-    if mode in THEIR_SET_PLAYS:
-        radius = play.set_play_distance + _MARGIN
-        spots = _defensive_spots(ball, field, len(field_ids), radius)
-        for i, (x, y) in zip(field_ids, spots):
-            x, y = clear_of(x, y, ball, radius, field)
-            targets[i] = _facing(x, y, ball.x, ball.y)
-        if goalie:
-            gx, gy = clear_of(targets[goalie].x, targets[goalie].y, ball, radius, field, _GOALIE_LINE)
-            targets[goalie] = _facing(gx, gy, ball.x, ball.y)
-        return Formation(targets)
     return Formation({i: poses[i] for i in ids})  # STARTROBOT, TEST: no formation
 
 
@@ -197,7 +249,8 @@ def _our_restart(ball: FusedBall, ids: list[int], targets: dict[int, Pose2D], fi
     targets[taker] = _facing(ball.x - ax / a * _TAKER_GAP, ball.y - ay / a * _TAKER_GAP, ball.x, ball.y)
     if receiver:
         targets[receiver] = _facing(rx, ry, ball.x, ball.y)
-    spots = _defensive_spots(ball, field, max(len(ids) - 2, 0), 4.0)
+    placed = tuple((p.x, p.y) for p in targets.values())  # the goalie, the taker and the receiver
+    spots = _spots(_ring(ball, field, max(len(ids) - 2, 0), 4.0), ball, 1.0, field, placed)
     for i, (x, y) in zip(ids[2:], spots):
         targets[i] = _facing(x, y, ball.x, ball.y)
     return Formation(targets, taker, receiver)

@@ -10,6 +10,7 @@ from nubot_common.match_mode import OUR_SET_PLAYS, THEIR_SET_PLAYS, MatchMode
 from nubot_common.percepts import RobotReport
 from nubot_common.team_play import Role
 from nubot_common.world_state import FusedBall
+from nubot_control.areas import AREA_MARGIN, in_area
 from nubot_control.params import PlayParams
 from nubot_control.set_plays import formation
 
@@ -31,6 +32,36 @@ def test_opponent_set_pieces_keep_three_metres(mode, ball):
         assert FIELD.is_inside(pose.x, pose.y), f"robot {agent} sent off the field (behind a goal) at {pose}"
 
 
+def _apart(plan, metres=0.8):
+    poses = sorted(plan.targets.items())
+    for k, (a, p) in enumerate(poses):
+        for b, q in poses[k + 1:]:
+            assert math.hypot(p.x - q.x, p.y - q.y) >= metres, f"robots {a} and {b} sent to the same spot"
+
+
+@pytest.mark.parametrize("ball", BALLS + [FusedBall(-7.0, 3.5), FusedBall(-5.0, -2.0), FusedBall(-6.5, -4.0)])
+@pytest.mark.parametrize("mode", [MatchMode.OPP_FREEKICK, MatchMode.OPP_CORNERKICK, MatchMode.OPP_THROWIN])
+def test_defenders_wait_apart_and_outside_the_penalty_areas(mode, ball):
+    """Near the own goal the ring around the ball crosses the penalty area, which the motion layer walls the field
+    robots out of: each gets its own spot beyond the wall instead of all being pushed onto the same part of it."""
+    plan = formation(mode, ball, TEAM, ROLES, FIELD, PLAY)
+    _apart(plan)
+    for agent in (2, 3, 4, 5):
+        pose = plan.targets[agent]
+        for own in (True, False):
+            assert not in_area(pose.x, pose.y, FIELD, own, margin=AREA_MARGIN), f"robot {agent} at {pose}"
+        assert math.hypot(pose.x - ball.x, pose.y - ball.y) >= 3.3 - 1e-9
+
+
+def test_defenders_away_from_the_goal_stand_on_the_ring_between_ball_and_goal():
+    ball = FusedBall(0.0, 0.0)
+    plan = formation(MatchMode.OPP_FREEKICK, ball, TEAM, ROLES, FIELD, PLAY)
+    for agent in (2, 3, 4, 5):
+        pose = plan.targets[agent]
+        assert math.hypot(pose.x - ball.x, pose.y - ball.y) == pytest.approx(3.3), "as close as the rule allows"
+        assert pose.x < ball.x - 2.0, "goal side of the ball"
+
+
 def test_kickoffs_keep_everyone_in_the_own_half():
     ball = FusedBall(0.0, 0.0)
     theirs = formation(MatchMode.OPP_KICKOFF, ball, TEAM, ROLES, FIELD, PLAY)
@@ -50,6 +81,9 @@ def test_drop_ball_keeps_one_metre(ball):
     for pose in plan.targets.values():
         assert math.hypot(pose.x - ball.x, pose.y - ball.y) >= 1.0
         assert FIELD.is_inside(pose.x, pose.y)
+    _apart(plan)
+    active = plan.targets[2]
+    assert not any(in_area(active.x, active.y, FIELD, own, goal_area=True, margin=AREA_MARGIN) for own in (True, False))
 
 
 def test_the_goalie_steps_along_its_goal_line_out_of_a_set_pieces_circle():
