@@ -8,14 +8,15 @@ cd "$root"
 
 build="$root/build/sanitize"
 kernels="$build/kernels"
-targets=(nubot_control_kernels world_model_kernels)
+targets=(nubot_control_kernels world_model_kernels sim_visual_kernels)
 # The unit tests of what the kernels compute (and of their loader).
 tests=(src/nubot_control/test/unit/test_mpc.py src/nubot_control/test/unit/test_path_planning.py
        src/nubot_control/test/unit/test_kernels.py src/nubot_control/test/unit/test_motion.py
        src/nubot_control/test/unit/test_chances.py
        src/world_model/test/unit/test_obstacles.py src/world_model/test/unit/test_ball_fusion.py
        src/world_model/test/unit/test_world_model.py src/world_model/test/unit/test_sensor_fusion.py
-       src/world_model/test/unit/test_world_model_golden.py)
+       src/world_model/test/unit/test_world_model_golden.py
+       src/sim_visual/test/unit/test_physics_golden.py src/sim_visual/test/unit/test_simulator.py)
 
 echo "[sanitize] building ${targets[*]} with -fsanitize=address,undefined into $kernels"
 if ! catkin_make --build "$build" -DCATKIN_DEVEL_PREFIX="$build/devel" -DNUBOT_SANITIZE=ON \
@@ -32,7 +33,7 @@ export LD_PRELOAD="$(gcc -print-file-name=libasan.so) $(gcc -print-file-name=lib
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:halt_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export NUBOT_KERNELS_PATH="$kernels"
-python -c "import sys, nubot_control.mpc as a, world_model.obstacles as b; files = [a._kernels.__file__, \
-b._kernels.__file__]; print('[sanitize] kernels:', *files); \
+python -c "import sys, nubot_control.mpc as a, world_model.obstacles as b, sim_visual.world as c; \
+files = [a._kernels.__file__, b._kernels.__file__, c._kernels.__file__]; print('[sanitize] kernels:', *files); \
 sys.exit(0 if all(f.startswith('$kernels') for f in files) else 'the sanitized kernels were not loaded')"
 python -m pytest -q -p no:randomly "${tests[@]}"

@@ -19,6 +19,11 @@ new plan). A motion layer fed the same sequence from its start must answer the s
 arguments and what it gave, as JSON lines (xz): each a tagged tree (``encode``). A world model fed the same inputs from
 its start must read the same.
 
+``python -m nubot_tools.golden physics --out FILE`` records every change of the simulator's ``PhysicsWorld`` in order
+(robots added and removed, states set, robots driven, the ball set and its holder, each step with the robots that
+touched the ball) and after every step every body as ODE holds it (``record_physics``). A world fed the same changes
+from its start must step the same way.
+
 ``python -m nubot_tools.golden obstacles --out FILE`` records every call of ``--trackers`` robots' obstacle trackers
 (``ObstacleTracker.update`` and ``estimate``), in order.
 
@@ -222,6 +227,89 @@ WORLD_CALLS = ("on_vision", "on_front_ball", "on_ball3d", "on_teammate", "on_tea
                "on_strategy", "snapshot", "own_view")
 
 
+# Rows of a physics trace: (world, op, robot) with 13 numbers; op codes and what the numbers hold.
+PHYSICS_OPS = {"add": 0, "remove": 1, "set_robot": 2, "drive": 3, "set_ball": 4, "holder": 5, "step": 6, "robot": 7,
+               "ball": 8}
+
+
+def record_physics(seeds: list[int], seconds: float) -> dict[str, np.ndarray]:
+    """Every change of the simulator's ``PhysicsWorld`` in the matches, in order, and after every step every body's
+    position, orientation (w, x, y, z) and velocities: a row (world, op, robot) with 13 numbers each. ``add``: x, y,
+    theta; ``set_robot``: the six state numbers; ``drive``: vx, vy, w, world frame (1 or 0); ``set_ball``: the nine;
+    ``holder``: the robot whose ball contacts are ignored (-1 none); ``step``: dt, and in the robot column the touched
+    robots as a bit mask; ``robot`` / ``ball``: the body after the step. Robots are numbered in the order a world
+    added them. The worlds were built with the default field, physics, robot and ball (checked)."""
+    from nubot_common.field import FieldGeometry
+    from nubot_common.world_description import BallBody, RobotBody
+    from sim_visual.params import PhysicsParams
+    from sim_visual.world import PhysicsWorld
+
+    rows: list[tuple[int, int, int, list[float]]] = []
+    ids: dict[int, int] = {}
+    names: dict[int, list[str]] = {}
+    original = {n: getattr(PhysicsWorld, n) for n in ("__init__", "add_robot", "remove_robot", "set_robot_state",
+                                                     "drive_robot", "set_ball_state", "set_ball_collides_with",
+                                                     "step")}
+
+    def world_of(self: Any) -> int:
+        return ids[id(self)]
+
+    def robot_of(self: Any, name: str | None) -> int:
+        return -1 if name is None else names[world_of(self)].index(name)
+
+    def add(op: str, self: Any, robot: int, values: list[float]) -> None:
+        rows.append((world_of(self), PHYSICS_OPS[op], robot, [float(v) for v in values] + [0.0] * (13 - len(values))))
+
+    def init(self: Any, field: Any, physics: Any, robot: Any, ball: Any) -> None:
+        if (field, physics, robot, ball) != (FieldGeometry(), PhysicsParams(), RobotBody(), BallBody()):
+            raise RuntimeError("golden physics: the matches must use the default field, physics, robot and ball")
+        ids[id(self)] = len(ids)
+        names[ids[id(self)]] = []
+        original["__init__"](self, field, physics, robot, ball)
+
+    def add_robot(self: Any, name: str, x: float, y: float, theta: float) -> None:
+        names[world_of(self)].append(name)
+        add("add", self, robot_of(self, name), [x, y, theta])
+        original["add_robot"](self, name, x, y, theta)
+
+    def remove_robot(self: Any, name: str) -> None:
+        add("remove", self, robot_of(self, name), [])
+        original["remove_robot"](self, name)
+
+    def set_robot_state(self: Any, name: str, state: Any) -> None:
+        add("set_robot", self, robot_of(self, name), list(dataclasses.astuple(state)))
+        original["set_robot_state"](self, name, state)
+
+    def drive_robot(self: Any, name: str, vx: float, vy: float, w: float, world_frame: bool = False) -> None:
+        add("drive", self, robot_of(self, name), [vx, vy, w, float(world_frame)])
+        original["drive_robot"](self, name, vx, vy, w, world_frame)
+
+    def set_ball_state(self: Any, state: Any) -> None:
+        add("set_ball", self, -1, list(dataclasses.astuple(state)))
+        original["set_ball_state"](self, state)
+
+    def set_ball_collides_with(self: Any, name: str | None) -> None:
+        add("holder", self, robot_of(self, name), [])
+        original["set_ball_collides_with"](self, name)
+
+    def step(self: Any, dt: float) -> set[str]:
+        touched = original["step"](self, dt)
+        mask = sum(1 << robot_of(self, n) for n in touched)
+        add("step", self, mask, [dt])
+        bodies = self.bodies()
+        for name in self.robot_names:
+            add("robot", self, robot_of(self, name), list(bodies[name]))
+        add("ball", self, -1, list(bodies[None]))
+        return touched
+
+    wrappers: dict[str, Callable[..., Any]] = {"__init__": init, "add_robot": add_robot, "remove_robot": remove_robot,
+                "set_robot_state": set_robot_state, "drive_robot": drive_robot, "set_ball_state": set_ball_state,
+                "set_ball_collides_with": set_ball_collides_with, "step": step}
+    play_wrapped(PhysicsWorld, wrappers, seeds, seconds)
+    return {"index": np.array([r[:3] for r in rows], dtype=np.int64),
+            "values": np.array([r[3] for r in rows], dtype=float)}
+
+
 def encode(value: Any) -> Any:
     """A tagged JSON tree of ``value``: a record (dataclass, named tuple) as {"_": its class, "f": its fields in
     order}, an enum member as {"_e": its class, "v": its value}, a tuple as {"_t": its items}."""
@@ -323,7 +411,7 @@ def _packets(calls: list[dict]) -> set[int]:
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("follow", "world", "obstacles"))
+    ap.add_argument("piece", choices=("follow", "world", "obstacles", "physics"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
@@ -347,6 +435,8 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if args.piece == "follow":
         trace = record_follow(seeds, args.seconds, args.trackers, args.tracker)
+    elif args.piece == "physics":
+        trace = record_physics(seeds, args.seconds)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
     args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -58,9 +58,10 @@ def test_robots_crashing_at_full_speed_stay_upright_on_the_carpet(make_sim, run)
         for name in ("nubot1", "nubot2", "nubot3"):
             sim.command_velocity(name, 5.0, 0.0, 3.0 if name == "nubot1" else 0.0)
         run(sim, 0.005)
-        for body, _geom in sim.world._robots.values():
-            _x, _y, z = body.getPosition()
-            _w, qx, qy, _z = body.getQuaternion()
+        for name, row in sim.world.bodies().items():
+            if name is None:
+                continue
+            z, qx, qy = row[2], row[4], row[5]  # position x, y, z; orientation w, x, y, z
             worst_lift, worst_tilt = max(worst_lift, abs(z)), max(worst_tilt, 2 * math.hypot(qx, qy))
     assert worst_lift < 0.005, "a robot left the carpet"
     assert worst_tilt < 0.01, "a robot tipped over"
@@ -429,15 +430,8 @@ def test_a_robot_state_read_again_shows_every_change(make_sim, run):
 
 def test_only_pairs_that_can_touch_reach_the_collision_callback(make_sim, run):
     sim = make_sim([("nubot1", 0.0, 0.0, 0.0), ("nubot2", 0.5, 0.0, 0.0)], ball=(0.3, 0.3))
-    world, kinds = sim.world, []
-    near = world._near
-
-    def counting(args, a, b):
-        kinds.append(frozenset((world._kind[a], world._kind[b])))
-        near(args, a, b)
-
-    world._near = counting
     run(sim, 0.2)
+    kinds = sim.world.pairs_offered()
     assert kinds, "robots, ball and carpet still meet"
     assert all("ball" in pair or "robot" in pair for pair in kinds), "no static geometry against itself"
     assert frozenset(("ground", "robot")) not in kinds, "robots glide above the carpet"

@@ -1,0 +1,85 @@
+// sim_visual._kernels: the compiled cores under sim_visual's Python API (see sim_visual/world.py).
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "sim_visual/physics.hpp"
+
+namespace py = pybind11;
+using sim_visual::Physics;
+
+namespace {
+
+template <std::size_t N>
+std::array<double, N> finite(const std::array<double, N>& values, const char* what) {
+  for (double v : values) {
+    if (!std::isfinite(v)) throw std::invalid_argument(std::string(what) + " must be finite numbers");
+  }
+  return values;
+}
+
+double finite(double value, const char* what) {
+  if (!std::isfinite(value)) throw std::invalid_argument(std::string(what) + " must be a finite number");
+  return value;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_kernels, m) {
+  m.doc() = "sim_visual's compiled kernels: the physics world's per-step work (see sim_visual.world).";
+
+  py::class_<sim_visual::Surface>(m, "Surface", "Contact properties of a pair of kinds of geometry.")
+      .def(py::init([](double mu, double bounce, int pair) { return sim_visual::Surface{true, mu, bounce, pair}; }),
+           py::arg("mu"), py::arg("bounce"), py::arg("pair"));
+
+  py::class_<Physics>(m, "Physics", "An ODE world of one field: static geometry, the ball and robot cylinders.")
+      .def(py::init([](double gravity, double erp, double cfm, double ball_mass, double ball_radius,
+                       double rolling_decel, double net_keep, double bounce_min_speed, double on_ground_tolerance) {
+             return new Physics(gravity, erp, cfm,
+                                {ball_mass, ball_radius, rolling_decel, net_keep, bounce_min_speed,
+                                 on_ground_tolerance});
+           }),
+           py::arg("gravity"), py::arg("erp"), py::arg("cfm"), py::arg("ball_mass"), py::arg("ball_radius"),
+           py::arg("rolling_decel"), py::arg("net_keep"), py::arg("bounce_min_speed"),
+           py::arg("on_ground_tolerance"))
+      .def("add_plane", &Physics::add_plane, py::arg("kind"), py::arg("category"), py::arg("collide"))
+      .def("add_box", &Physics::add_box, py::arg("kind"), py::arg("category"), py::arg("collide"), py::arg("size"),
+           py::arg("centre"))
+      .def("add_cylinder", &Physics::add_cylinder, py::arg("kind"), py::arg("category"), py::arg("collide"),
+           py::arg("radius"), py::arg("length"), py::arg("centre"))
+      .def("set_surface", &Physics::set_surface, py::arg("kind_a"), py::arg("kind_b"), py::arg("surface"))
+      .def("add_ball", &Physics::add_ball, py::arg("category"), py::arg("collide"))
+      .def("add_robot", &Physics::add_robot, py::arg("mass"), py::arg("inertia_zz"), py::arg("radius"),
+           py::arg("height"), py::arg("category"), py::arg("collide"))
+      .def("remove_robot", &Physics::remove_robot, py::arg("robot"))
+      .def(
+          "robot_state", [](const Physics& p, int robot) { return p.robot_state(robot); }, py::arg("robot"))
+      .def(
+          "set_robot_state",
+          [](Physics& p, int robot, const std::array<double, 6>& s) { p.set_robot_state(robot, finite(s, "a state")); },
+          py::arg("robot"), py::arg("state"))
+      .def("heading", &Physics::heading, py::arg("robot"))
+      .def(
+          "drive",
+          [](Physics& p, int robot, double vx, double vy, double w, bool world_frame) {
+            p.drive(robot, finite(vx, "vx"), finite(vy, "vy"), finite(w, "w"), world_frame);
+          },
+          py::arg("robot"), py::arg("vx"), py::arg("vy"), py::arg("w"), py::arg("world_frame"))
+      .def("ball_state", &Physics::ball_state)
+      .def(
+          "set_ball_state",
+          [](Physics& p, const std::array<double, 9>& s) { p.set_ball_state(finite(s, "a ball state")); },
+          py::arg("state"))
+      .def("ball_on_ground", &Physics::ball_on_ground)
+      .def("set_ball_holder", &Physics::set_ball_holder, py::arg("robot"))
+      .def("step", &Physics::step, py::arg("dt"))
+      .def("body", &Physics::body, py::arg("robot"))
+      .def(
+          "set_body", [](Physics& p, int robot, const sim_visual::BodyRow& r) { p.set_body(robot, finite(r, "a body")); },
+          py::arg("robot"), py::arg("row"))
+      .def("pairs_offered", &Physics::pairs_offered);
+}

@@ -1,0 +1,102 @@
+// The simulator's physics, the per-step work of it: the compiled core of sim_visual.world.PhysicsWorld (its docstring
+// states the model). An ODE world (Debian's libode) with the field's static geometry, the ball and robot cylinders;
+// Python describes the field and the surfaces once, this drives the robots, finds the contacts and steps.
+// World frame; units SI: m, s, m/s, rad.
+#pragma once
+
+#include <ode/ode.h>
+
+#include <array>
+#include <vector>
+
+namespace sim_visual {
+
+// Kinds of geometry (the Python names' order in sim_visual.world._KINDS).
+enum Kind : int { kGround = 0, kPost = 1, kNet = 2, kWall = 3, kRobot = 4, kBall = 5, kKinds = 6 };
+// What a contact between two kinds is reported as.
+enum Pair : int { kOther = 0, kBallRobot = 1, kBallNet = 2 };
+
+// Contact properties of a pair of kinds: friction coefficient, restitution (0: none given), what it reports.
+struct Surface {
+  bool contacts = false;  // false: the pair never makes contacts
+  double mu = 0.0, bounce = 0.0;
+  int pair = kOther;
+};
+
+struct BallParams {
+  double mass, radius, rolling_decel, net_keep, bounce_min_speed, on_ground_tolerance;
+};
+
+// A body as ODE holds it: position, orientation (w, x, y, z), linear and angular velocity.
+using BodyRow = std::array<double, 13>;
+
+class Physics {
+ public:
+  Physics(double gravity, double erp, double cfm, const BallParams& ball);
+  ~Physics();
+  Physics(const Physics&) = delete;
+  Physics& operator=(const Physics&) = delete;
+
+  // Construction: static geometry (category and collide bits as ODE's), the surface table, then the ball.
+  void add_plane(int kind, unsigned category, unsigned collide);
+  void add_box(int kind, unsigned category, unsigned collide, const std::array<double, 3>& size,
+               const std::array<double, 3>& centre);
+  void add_cylinder(int kind, unsigned category, unsigned collide, double radius, double length,
+                    const std::array<double, 3>& centre);
+  void set_surface(int kind_a, int kind_b, const Surface& surface);
+  void add_ball(unsigned category, unsigned collide);
+
+  // Robots: a handle per robot, kept until it is removed.
+  int add_robot(double mass, double inertia_zz, double radius, double height, unsigned category, unsigned collide);
+  void remove_robot(int robot);
+  std::array<double, 6> robot_state(int robot) const;  // x, y, heading, vx, vy, yaw rate
+  void set_robot_state(int robot, const std::array<double, 6>& state);
+  double heading(int robot) const;
+  void drive(int robot, double vx, double vy, double w, bool world_frame);
+
+  std::array<double, 9> ball_state() const;  // position, velocity, spin
+  void set_ball_state(const std::array<double, 9>& state);
+  bool ball_on_ground() const;
+  void set_ball_holder(int robot);  // -1: none
+
+  // One step of dt [s]: the robots that touched the ball, by handle, in the order their contacts were found.
+  std::vector<int> step(double dt);
+
+  BodyRow body(int robot) const;  // -1: the ball
+  void set_body(int robot, const BodyRow& row);
+  // How often each pair of kinds reached the contact callback since the world was made.
+  const std::array<std::array<long, kKinds>, kKinds>& pairs_offered() const { return offered_; }
+
+ private:
+  struct Robot {
+    dBodyID body = nullptr;
+    dGeomID holder = nullptr, cylinder = nullptr;
+  };
+  struct GeomInfo {
+    int kind, robot;
+  };
+  dGeomID classify(dGeomID geom, int kind, int robot, unsigned category, unsigned collide);
+  const Robot& robot_at(int robot) const;
+  dBodyID body_at(int robot) const;
+  static void near_callback(void* data, dGeomID a, dGeomID b);
+  void near(dGeomID a, dGeomID b);
+  void absorb_in_net();
+  void apply_rolling_resistance(double dt);
+
+  dWorldID world_;
+  dSpaceID space_;
+  dJointGroupID contacts_;
+  BallParams ball_params_;
+  dBodyID ball_ = nullptr;
+  dGeomID ball_geom_ = nullptr;
+  std::vector<dGeomID> static_;
+  std::vector<Robot> robots_;
+  std::vector<GeomInfo> infos_;  // a geom's data is its index here
+  std::array<std::array<Surface, kKinds>, kKinds> surfaces_{};
+  std::array<std::array<long, kKinds>, kKinds> offered_{};
+  int holder_ = -1;
+  bool ball_in_net_ = false;
+  std::vector<int> touched_;
+};
+
+}  // namespace sim_visual
