@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include "sim_visual/physics.hpp"
 
@@ -31,6 +33,16 @@ double finite(double value, const char* what) {
 
 PYBIND11_MODULE(_kernels, m) {
   m.doc() = "sim_visual's compiled kernels: the physics world's per-step work (see sim_visual.world).";
+
+  m.def(
+      "limit_drive",
+      [](const std::array<double, 3>& current, const std::array<double, 3>& wanted, double dt, double linear_accel,
+         double linear_brake, double angular_accel) {
+        return sim_visual::limit_drive(finite(current, "current"), finite(wanted, "wanted"), dt,
+                                       {linear_accel, linear_brake, angular_accel});
+      },
+      py::arg("current"), py::arg("wanted"), py::arg("dt"), py::arg("linear_accel"), py::arg("linear_brake"),
+      py::arg("angular_accel"), "The base's velocity one step of dt after current on its way to wanted.");
 
   py::class_<sim_visual::Surface>(m, "Surface", "Contact properties of a pair of kinds of geometry.")
       .def(py::init([](double mu, double bounce, int pair) { return sim_visual::Surface{true, mu, bounce, pair}; }),
@@ -63,6 +75,20 @@ PYBIND11_MODULE(_kernels, m) {
           [](Physics& p, int robot, const std::array<double, 6>& s) { p.set_robot_state(robot, finite(s, "a state")); },
           py::arg("robot"), py::arg("state"))
       .def("heading", &Physics::heading, py::arg("robot"))
+      .def(
+          "drive_bases",
+          [](Physics& p, const std::vector<std::tuple<int, double, double, double, std::array<double, 3>, bool>>& rows,
+             double dt, double linear_accel, double linear_brake, double angular_accel) {
+            std::vector<sim_visual::BaseCommand> commands;
+            commands.reserve(rows.size());
+            for (const auto& [robot, vx, vy, w, current, by_wheels] : rows) {
+              commands.push_back({robot, finite(vx, "vx"), finite(vy, "vy"), finite(w, "w"), finite(current, "a drive"),
+                                  by_wheels});
+            }
+            return p.drive_bases(commands, finite(dt, "dt"), {linear_accel, linear_brake, angular_accel});
+          },
+          py::arg("commands"), py::arg("dt"), py::arg("linear_accel"), py::arg("linear_brake"),
+          py::arg("angular_accel"))
       .def(
           "drive",
           [](Physics& p, int robot, double vx, double vy, double w, bool world_frame) {

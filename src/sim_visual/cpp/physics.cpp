@@ -38,6 +38,21 @@ void check_kind(int kind) {
 
 }  // namespace
 
+std::array<double, 3> limit_drive(const std::array<double, 3>& current, const std::array<double, 3>& wanted, double dt,
+                                  const DriveLimits& limits) {
+  const double vx = current[0], vy = current[1], w = current[2];
+  double dvx = wanted[0] - vx, dvy = wanted[1] - vy;
+  const double change = std::hypot(dvx, dvy);
+  const bool slowing = std::hypot(wanted[0], wanted[1]) < std::hypot(vx, vy);
+  const double step = (slowing ? limits.linear_brake : limits.linear_accel) * dt;
+  if (change > step) {
+    dvx = dvx * step / change;
+    dvy = dvy * step / change;
+  }
+  const double turn = limits.angular_accel * dt;
+  return {vx + dvx, vy + dvy, w + std::max(-turn, std::min(turn, wanted[2] - w))};
+}
+
 Physics::Physics(double gravity, double erp, double cfm, const BallParams& ball) : ball_params_(ball) {
   dInitODE2(0);
   world_ = dWorldCreate();
@@ -193,6 +208,20 @@ void Physics::drive(int robot, double vx, double vy, double w, bool world_frame)
     dBodySetLinearVel(body, c * vx - s * vy, s * vx + c * vy, 0.0);
   }
   dBodySetAngularVel(body, 0.0, 0.0, w);
+}
+
+std::vector<std::array<double, 3>> Physics::drive_bases(const std::vector<BaseCommand>& commands, double dt,
+                                                        const DriveLimits& limits) {
+  std::vector<std::array<double, 3>> out;
+  out.reserve(commands.size());
+  for (const BaseCommand& command : commands) {
+    const double yaw = heading(command.robot);
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    const std::array<double, 3> wanted = {c * command.vx - s * command.vy, s * command.vx + c * command.vy, command.w};
+    out.push_back(command.by_wheels ? wanted : limit_drive(command.current, wanted, dt, limits));
+    drive(command.robot, out.back()[0], out.back()[1], out.back()[2], true);
+  }
+  return out;
 }
 
 std::array<double, 9> Physics::ball_state() const {

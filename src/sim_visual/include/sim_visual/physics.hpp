@@ -27,6 +27,26 @@ struct BallParams {
   double mass, radius, rolling_decel, net_keep, bounce_min_speed, on_ground_tolerance;
 };
 
+// The base's limits: linear acceleration and braking [m/s^2], angular acceleration [rad/s^2].
+struct DriveLimits {
+  double linear_accel, linear_brake, angular_accel;
+};
+
+// The base's velocity (vx, vy [m/s], world frame; w [rad/s]) one step of dt [s] after current on its way to wanted:
+// the linear change at most linear_brake * dt while the speed falls, else linear_accel * dt; the turn rate's change
+// at most angular_accel * dt (sim_visual.rules.limit_drive).
+std::array<double, 3> limit_drive(const std::array<double, 3>& current, const std::array<double, 3>& wanted, double dt,
+                                  const DriveLimits& limits);
+
+// One robot's base for a step: its body-frame command, what its base gives now (world frame), and whether it is
+// driven by its wheels (whose own model gives their dynamics: no base limits).
+struct BaseCommand {
+  int robot;
+  double vx, vy, w;
+  std::array<double, 3> current;
+  bool by_wheels;
+};
+
 // A body as ODE holds it: position, orientation (w, x, y, z), linear and angular velocity.
 using BodyRow = std::array<double, 13>;
 
@@ -53,6 +73,10 @@ class Physics {
   void set_robot_state(int robot, const std::array<double, 6>& state);
   double heading(int robot) const;
   void drive(int robot, double vx, double vy, double w, bool world_frame);
+  // Every base one step on: each command turned into the world frame by the robot's heading now, reached within the
+  // limits from what the base gives now (unless driven by its wheels), then driven. Returns what each base gives.
+  std::vector<std::array<double, 3>> drive_bases(const std::vector<BaseCommand>& commands, double dt,
+                                                 const DriveLimits& limits);
 
   std::array<double, 9> ball_state() const;  // position, velocity, spin
   void set_ball_state(const std::array<double, 9>& state);

@@ -10,14 +10,21 @@ world-frame, SI units, unless a name says body.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from nubot_common.commands import BodyVelocity
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate
+from nubot_common.kernels import load_kernels
 from sim_visual import SimVisualError
 from sim_visual.params import PluginParams
+
+if TYPE_CHECKING:
+    from sim_visual import _kernels  # its interface: _kernels.pyi
+else:
+    _kernels = load_kernels("sim_visual")
 
 
 def clamp_command(vx: float, vy: float, w: float, params: PluginParams) -> tuple[BodyVelocity, bool]:
@@ -39,18 +46,16 @@ def clamp_command(vx: float, vy: float, w: float, params: PluginParams) -> tuple
 
 def limit_drive(current: tuple[float, float, float], wanted: tuple[float, float, float], dt: float,
                 params: PluginParams) -> tuple[float, float, float]:
-    """The base's velocity (vx, vy [m/s], w [rad/s], world frame) one step of ``dt`` [s] after ``current`` on its way
+    """The base's velocity (vx, vy [m/s], world frame, w [rad/s]) one step of ``dt`` [s] after ``current`` on its way
     to ``wanted``: the linear change at most ``max_linear_brake * dt`` while the speed falls, else
-    ``max_linear_accel * dt``; the turn rate's change at most ``max_angular_accel * dt``."""
-    vx, vy, w = current
-    dvx, dvy = wanted[0] - vx, wanted[1] - vy
-    change = math.hypot(dvx, dvy)
-    slowing = math.hypot(wanted[0], wanted[1]) < math.hypot(vx, vy)
-    step = (params.max_linear_brake if slowing else params.max_linear_accel) * dt
-    if change > step:
-        dvx, dvy = dvx * step / change, dvy * step / change
-    turn = params.max_angular_accel * dt
-    return vx + dvx, vy + dvy, w + max(-turn, min(turn, wanted[2] - w))
+    ``max_linear_accel * dt``; the turn rate's change at most ``max_angular_accel * dt`` (compiled:
+    ``sim_visual/physics.hpp``, which drives every robot's base in a step with it, ``PhysicsWorld.drive_bases``)."""
+    return _kernels.limit_drive(current, wanted, dt, *drive_limits(params))
+
+
+def drive_limits(params: PluginParams) -> tuple[float, float, float]:
+    """The base's limits as ``limit_drive`` takes them: linear acceleration and braking, angular acceleration."""
+    return params.max_linear_accel, params.max_linear_brake, params.max_angular_accel
 
 
 def grip_holds(vx: float, vy: float, w: float, params: PluginParams) -> bool:

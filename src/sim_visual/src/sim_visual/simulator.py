@@ -42,11 +42,11 @@ from sim_visual.params import (
 from sim_visual.rules import (
     clamp_command,
     dribble_condition,
+    drive_limits,
     grip_holds,
     ground_pass_velocity,
     held_ball_position,
     held_ball_velocity,
-    limit_drive,
     lob_velocity,
     spread_kick,
 )
@@ -432,17 +432,17 @@ class Simulator:
         events: list[SimEvent] = []
         timeout = self.plugin_params.command_timeout
         stuck_due = self.steps % _STUCK_EVERY == 0
+        commands = []
         for name, plugin in self.plugins.items():
             command = plugin.command
             if timeout > 0.0 and self.time - plugin.command_time > timeout:
                 command = BodyVelocity()
             if stuck_due:
                 self._update_stuck(plugin, command, self.world.robot_state(name), _STUCK_EVERY * dt)
-            heading = self.world.heading(name)
-            c, s = math.cos(heading), math.sin(heading)
-            wanted = (c * command.vx - s * command.vy, s * command.vx + c * command.vy, command.w)
-            plugin.drive = wanted if plugin.by_wheels else limit_drive(plugin.drive, wanted, dt, self.plugin_params)
-            self.world.drive_robot(name, *plugin.drive, world_frame=True)
+            commands.append((name, command, plugin.drive, plugin.by_wheels))
+        drives = self.world.drive_bases(commands, dt, drive_limits(self.plugin_params))
+        for plugin, drive in zip(self.plugins.values(), drives):
+            plugin.drive = drive
         if self.holder is not None:
             events += self._check_grip(self.holder, dt)
         self.world.set_ball_collides_with(self.holder)

@@ -16,6 +16,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from nubot_common.commands import BodyVelocity
 from nubot_common.field import FieldGeometry
 from nubot_common.kernels import load_kernels
 from nubot_common.world_description import BallBody, RobotBody
@@ -183,6 +184,18 @@ class PhysicsWorld:
         handle = self._robot(name)
         self._robot_states.pop(name, None)
         self._core.drive(handle, vx, vy, w, world_frame)
+
+    def drive_bases(self, commands: list[tuple[str, BodyVelocity, tuple[float, float, float], bool]], dt: float,
+                    limits: tuple[float, float, float]) -> list[tuple[float, float, float]]:
+        """Every robot's base one step of ``dt`` on: per robot (name, body-frame command, what its base gives now as
+        vx, vy [m/s] world frame and w [rad/s], driven by its wheels), the command turned into the world frame by
+        the heading now and reached from what the base gives within ``limits`` (linear acceleration and braking
+        [m/s^2], angular acceleration [rad/s^2]; ``limit_drive``) unless the wheels drive it, then driven
+        (``drive_robot``). Returns what each base gives now."""
+        rows = [(self._robot(name), c.vx, c.vy, c.w, current, by_wheels) for name, c, current, by_wheels in commands]
+        for name, *_ in commands:
+            self._robot_states.pop(name, None)
+        return [(vx, vy, w) for vx, vy, w in self._core.drive_bases(rows, dt, *limits)]
 
     # --- ball -------------------------------------------------------------------------
     def ball_state(self) -> BallState:

@@ -1,15 +1,20 @@
-"""The compiled physics world holds to the golden trace recorded from the Python world before it moved to C++
-(``python -m nubot_tools.golden physics --seeds 1 --seconds 15``): every change of the world in 15 s of a seeded
-lockstep match, and after each of its 3000 steps every body's position, orientation and velocities."""
+"""The compiled physics world holds to the golden traces recorded from the Python before it moved to C++:
+``physics.npz`` (``python -m nubot_tools.golden physics --seeds 1 --seconds 15``), every change of the world in 15 s
+of a seeded lockstep match and after each of its 3000 steps every body's position, orientation and velocities; and
+``drive.npz``, every call of the Python base model (``limit_drive``) over 2 x 10 s of seeded matches (seeds 0 and 1)."""
 
+import dataclasses
+import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from nubot_common.commands import BodyVelocity
 from nubot_common.field import FieldGeometry
 from nubot_common.world_description import BallBody, RobotBody
-from sim_visual.params import PhysicsParams
+from sim_visual.params import PhysicsParams, PluginParams
+from sim_visual.rules import drive_limits, limit_drive
 from sim_visual.world import BallState, PhysicsWorld, RobotState
 
 TRACE = Path(__file__).resolve().parents[1] / "golden" / "physics.npz"
@@ -69,3 +74,36 @@ def test_the_compiled_world_steps_as_the_recorded_one(restore_each_step):
             worst, where = diff, (steps, body)
     assert steps == 3000
     assert worst <= (1e-9 if restore_each_step else 0.0), f"worst difference {worst:.3g} at step and body {where}"
+
+
+def test_the_compiled_base_model_gives_the_recorded_velocities():
+    """``limit_drive`` against every call of the Python one in ``drive.npz``: within 1e-12 m/s (libm's hypot and
+    Python's may differ in the last bit)."""
+    calls = np.load(TRACE.with_name("drive.npz"))["calls"]
+    assert len(calls) == 40000
+    worst = 0.0
+    for row in calls:
+        accel, brake, turn = row[7:10]
+        params = dataclasses.replace(PluginParams(), max_linear_accel=accel, max_linear_brake=brake,
+                                     max_angular_accel=turn)
+        got = limit_drive(tuple(row[0:3]), tuple(row[3:6]), float(row[6]), params)
+        worst = max(worst, float(np.max(np.abs(np.array(got) - row[10:13]))))
+    assert worst <= 1e-12
+
+
+def test_driving_every_base_at_once_is_driving_each_within_its_limits():
+    """``drive_bases``: the command turned into the world frame by the heading, reached within the limits (or at once
+    for a robot its wheels drive), and the robot driven so."""
+    world = PhysicsWorld(FieldGeometry(), PhysicsParams(), RobotBody(), BallBody())
+    world.add_robot("a", -2.0, 0.0, math.pi / 2)
+    world.add_robot("b", 2.0, 0.0, 0.0)
+    params = PluginParams()
+    drives = world.drive_bases([("a", BodyVelocity(2.0, 0.0, 1.0), (0.0, 0.0, 0.0), False),
+                                ("b", BodyVelocity(1.0, 0.5, 0.0), (0.0, 0.0, 0.0), True)], 0.005,
+                               drive_limits(params))
+    assert drives[0] == pytest.approx(limit_drive((0.0, 0.0, 0.0), (0.0, 2.0, 1.0), 0.005, params), abs=1e-12)
+    assert drives[1] == pytest.approx((1.0, 0.5, 0.0))
+    assert world.bodies()["a"][7:9] == pytest.approx(drives[0][:2]) and world.bodies()["a"][12] == drives[0][2]
+    with pytest.raises(ValueError, match="finite"):
+        world.drive_bases([("a", BodyVelocity(math.nan, 0.0, 0.0), (0.0, 0.0, 0.0), False)], 0.005,
+                          drive_limits(params))
