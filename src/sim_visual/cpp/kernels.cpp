@@ -1,5 +1,6 @@
 // sim_visual._kernels: the compiled cores under sim_visual's Python API (see sim_visual/world.py).
 #include <pybind11/pybind11.h>
+#include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include <array>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "sim_visual/physics.hpp"
+#include "sim_visual/sensing.hpp"
 
 namespace py = pybind11;
 using sim_visual::Physics;
@@ -24,6 +26,11 @@ std::array<double, N> finite(const std::array<double, N>& values, const char* wh
   return values;
 }
 
+std::vector<sim_visual::RobotRow> finite_rows(const std::vector<sim_visual::RobotRow>& rows) {
+  for (const auto& row : rows) finite(row, "robot states");
+  return rows;
+}
+
 double finite(double value, const char* what) {
   if (!std::isfinite(value)) throw std::invalid_argument(std::string(what) + " must be a finite number");
   return value;
@@ -32,7 +39,8 @@ double finite(double value, const char* what) {
 }  // namespace
 
 PYBIND11_MODULE(_kernels, m) {
-  m.doc() = "sim_visual's compiled kernels: the physics world's per-step work (see sim_visual.world).";
+  m.doc() = "sim_visual's compiled kernels: the physics world's per-step work (see sim_visual.world) and the "
+            "robots' synthetic omni vision (see sim_visual.sensing).";
 
   m.def(
       "limit_drive",
@@ -43,6 +51,44 @@ PYBIND11_MODULE(_kernels, m) {
       },
       py::arg("current"), py::arg("wanted"), py::arg("dt"), py::arg("linear_accel"), py::arg("linear_brake"),
       py::arg("angular_accel"), "The base's velocity one step of dt after current on its way to wanted.");
+
+  m.def(
+      "vision_draws",
+      [](const std::vector<sim_visual::RobotRow>& robots, const sim_visual::BallRow& ball,
+         const std::vector<int>& observers, const std::vector<int>& attacks, double vision_range) {
+        return sim_visual::vision_draws(finite_rows(robots), finite(ball, "the ball's state"), observers, attacks,
+                                        vision_range);
+      },
+      py::arg("robots"), py::arg("ball"), py::arg("observers"), py::arg("attacks"), py::arg("vision_range"),
+      "How many standard normal numbers each observer's vision frame takes (6, and 4 per object in range).");
+
+  m.def(
+      "vision_frames",
+      [](const std::vector<sim_visual::RobotRow>& robots, const sim_visual::BallRow& ball,
+         const std::vector<int>& observers, const std::vector<int>& attacks, const std::array<double, 5>& noise,
+         const py::array_t<double, py::array::c_style | py::array::forcecast>& normals) {
+        if (normals.ndim() != 1) throw std::invalid_argument("normals must be a flat array");
+        const auto frames = sim_visual::vision_frames(
+            finite_rows(robots), finite(ball, "the ball's state"), observers, attacks,
+            {noise[0], noise[1], noise[2], noise[3], noise[4]}, normals.data(), static_cast<std::size_t>(normals.size()));
+        // As the records want them: (x, y, theta, vx, vy), the ball (x, y, vx, vy) or None, obstacles ((x, y), ...).
+        py::list out;
+        for (const auto& f : frames) {
+          py::tuple obstacles(f.obstacles.size());
+          for (std::size_t j = 0; j < f.obstacles.size(); ++j) {
+            obstacles[j] = py::make_tuple(f.obstacles[j][0], f.obstacles[j][1]);
+          }
+          const auto& r = f.robot;
+          py::object ball_out = f.ball_seen ? py::object(py::make_tuple(f.ball[0], f.ball[1], f.ball[2], f.ball[3]))
+                                            : py::object(py::none());
+          out.append(py::make_tuple(py::make_tuple(r[0], r[1], r[2], r[3], r[4]), ball_out, obstacles));
+        }
+        return out;
+      },
+      py::arg("robots"), py::arg("ball"), py::arg("observers"), py::arg("attacks"), py::arg("noise"),
+      py::arg("normals"),
+      "The observers' vision frames in their team frames; noise: position, velocity, self-position and heading "
+      "standard deviations and the vision range; normals: the standard normal numbers vision_draws asked for.");
 
   py::class_<sim_visual::Surface>(m, "Surface", "Contact properties of a pair of kinds of geometry.")
       .def(py::init([](double mu, double bounce, int pair) { return sim_visual::Surface{true, mu, bounce, pair}; }),

@@ -194,8 +194,7 @@ class LockstepMatch:
         if self._judge.due(t):
             self._referee_tick(t, out)
         if self._vision.due(t):
-            for name, agent in self.agents.items():
-                view = sim.observe(name)
+            for (name, agent), view in zip(self.agents.items(), sim.observe_all(self.agents)):
                 agent.on_vision(view)
                 if name in self.goalies:  # its own generator: draws nothing from the one above
                     agent.on_ball3d(sim.observe_ball3d(name))

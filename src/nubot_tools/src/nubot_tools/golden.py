@@ -25,6 +25,9 @@ its start must read the same.
 touched the ball) and after every step every body as ODE holds it (``record_physics``). A world fed the same changes
 from its start must step the same way.
 
+``python -m nubot_tools.golden sensing --out FILE`` records every omni-vision frame the simulator made
+(``record_sensing``): what it was given, the normal numbers it drew and what it gave.
+
 ``python -m nubot_tools.golden obstacles --out FILE`` records every call of ``--trackers`` robots' obstacle trackers
 (``ObstacleTracker.update`` and ``estimate``), in order.
 
@@ -417,9 +420,54 @@ def _packets(calls: list[dict]) -> set[int]:
     return {c["args"][1]["@"] for c in calls if c["call"] == "on_teammate"}
 
 
+def record_sensing(seeds: list[int], seconds: float) -> dict[str, np.ndarray]:
+    """Every omni-vision frame the simulator made in the matches (``sensing.observe``), in order: what it was given
+    (``frame``: stamp, the robot's six state numbers, its team's attack, AgentID, the four flags, the ball's x, y, vx,
+    vy, the five noise parameters; ``others``: each other robot's six numbers) and the normal numbers it drew
+    (``normals``), and what it gave (``robot``: pose x, y, theta, vx, vy, w; ``ball``: seen, x, y, vx, vy;
+    ``obstacles``: x, y each). Ragged parts come with their ``_offsets``."""
+    from sim_visual import simulator
+
+    frames: list[list[float]] = []
+    others: list[np.ndarray] = []
+    normals: list[np.ndarray] = []
+    robots: list[list[float]] = []
+    balls: list[list[float]] = []
+    obstacles: list[np.ndarray] = []
+    original = simulator.observe
+
+    def observe(stamp: float, me: Any, frame: Any, agent_id: int, flags: Any, ball: Any, rest: list, noise: Any,
+                rng: np.random.Generator) -> Any:
+        state = rng.bit_generator.state
+        view = original(stamp, me, frame, agent_id, flags, ball, rest, noise, rng)
+        replay = np.random.Generator(type(rng.bit_generator)())
+        replay.bit_generator.state = state
+        drawn = 6 + 4 * ((view.ball is not None) + len(view.obstacles))
+        normals.append(replay.normal(0.0, 1.0, size=drawn))
+        if replay.bit_generator.state != rng.bit_generator.state:
+            raise RuntimeError("golden sensing: the frame drew other numbers than 6 + 4 per object seen")
+        frames.append([stamp, *dataclasses.astuple(me), frame.attack, agent_id, *map(float, dataclasses.astuple(flags)),
+                       ball.x, ball.y, ball.vx, ball.vy, *dataclasses.astuple(noise)])
+        others.append(np.array([dataclasses.astuple(r) for r in rest], dtype=float).reshape(-1, 6))
+        r = view.robot
+        robots.append([r.pose.x, r.pose.y, r.pose.theta, r.vx, r.vy, r.w])
+        b = view.ball
+        balls.append([1.0, b.x, b.y, b.vx, b.vy] if b is not None else [0.0] * 5)
+        obstacles.append(np.array(view.obstacles, dtype=float).reshape(-1, 2))
+        return view
+
+    play_wrapped(simulator, {"observe": observe}, seeds, seconds)
+    trace = {"frame": np.array(frames), "robot": np.array(robots), "ball": np.array(balls)}
+    trace["others"], trace["others_offsets"] = _ragged(others, 6)
+    trace["normals"], trace["normals_offsets"] = _ragged([n.reshape(-1, 1) for n in normals], 1)
+    trace["obstacles"], trace["obstacles_offsets"] = _ragged(obstacles, 2)
+    print(f"golden: {len(frames)} frames", file=sys.stderr)
+    return trace
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("follow", "world", "obstacles", "physics"))
+    ap.add_argument("piece", choices=("follow", "world", "obstacles", "physics", "sensing"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
@@ -445,6 +493,8 @@ def main(argv: list[str] | None = None) -> int:
         trace = record_follow(seeds, args.seconds, args.trackers, args.tracker)
     elif args.piece == "physics":
         trace = record_physics(seeds, args.seconds)
+    elif args.piece == "sensing":
+        trace = record_sensing(seeds, args.seconds)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
     args.out.parent.mkdir(parents=True, exist_ok=True)

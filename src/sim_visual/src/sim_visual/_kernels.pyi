@@ -1,5 +1,6 @@
 # The compiled kernels' Python interface (cpp/kernels.cpp), for type checkers.
 from collections.abc import Sequence
+from typing import Any
 
 _Vec3 = tuple[float, float, float]
 
@@ -7,6 +8,14 @@ _Vel = tuple[float, float, float]
 
 def limit_drive(current: Sequence[float], wanted: Sequence[float], dt: float, linear_accel: float,
                 linear_brake: float, angular_accel: float) -> _Vel: ...
+
+def vision_draws(robots: Sequence[Sequence[float]], ball: Sequence[float], observers: Sequence[int],
+                 attacks: Sequence[int], vision_range: float) -> list[int]: ...
+
+def vision_frames(robots: Sequence[Sequence[float]], ball: Sequence[float], observers: Sequence[int],
+                  attacks: Sequence[int], noise: Sequence[float], normals: Any
+                  ) -> list[tuple[tuple[float, float, float, float, float], tuple[float, float, float, float] | None,
+                                  tuple[tuple[float, float], ...]]]: ...
 
 class Surface:
     def __init__(self, mu: float, bounce: float, pair: int) -> None: ...

@@ -1,26 +1,34 @@
 """Synthetic omni-directional vision: what one robot would perceive, with Gaussian noise.
 
 Requires: true world state (``RobotState``, ``BallState``), the robot's ``TeamFrame``, ``NoiseParams``
-and a ``numpy.random.Generator``. Provides: ``observe_ball3d`` (the goalie's RGB-D ball, ``Ball3dPercept``) and
-``observe`` -> ``RobotView`` (the percepts every percept
-provider gives: itself, the ball if seen, the robots it sees) which, like the real vision, measures
-positions relative to the robot, adds noise, and places them on the field with the (noisy)
-self-localization. Everything is in the robot's team frame: a team attacking -x sees the field
+and a ``numpy.random.Generator``; the compiled ``sim_visual._kernels`` (``vision_frames``). Provides:
+``observe_ball3d`` (the goalie's RGB-D ball, ``Ball3dPercept``), ``observe`` -> ``RobotView`` (the percepts every
+percept provider gives: itself, the ball if seen, the robots it sees) and ``observe_all`` (the frames of many robots
+at once), which, like the real vision, measure positions relative to the robot, add noise, and place them on the
+field with the (noisy) self-localization. Everything is in the robot's team frame: a team attacking -x sees the field
 turned half round, so its own goal is always at negative x.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from nubot_common.geometry import Pose2D, wrap_angle
+from nubot_common.kernels import load_kernels
 from nubot_common.percepts import Ball3dPercept, BallPercept, RobotReport, RobotView
 from nubot_common.team_frame import TeamFrame
 from sim_visual.params import NoiseParams
 from sim_visual.world import BallState, RobotState
+
+if TYPE_CHECKING:
+    from sim_visual import _kernels  # its interface: _kernels.pyi
+else:
+    _kernels = load_kernels("sim_visual")
 
 
 @dataclass(frozen=True)
@@ -36,34 +44,31 @@ class RobotFlags:
 def observe(stamp: float, me: RobotState, frame: TeamFrame, agent_id: int, flags: RobotFlags, ball: BallState,
             others: list[RobotState], noise: NoiseParams, rng: np.random.Generator) -> RobotView:
     """One vision frame of the robot ``me`` at ``stamp`` [s]."""
-    tx, ty = frame.point_to_team(me.x, me.y)
-    tvx, tvy = frame.velocity_to_team(me.vx, me.vy)
-    truth = Pose2D(tx, ty, frame.heading_to_team(me.theta))
-    # What is in range is known before any noise is drawn: all the frame's noise comes from one call, in the
-    # order of one call per object (self, ball, robots), which gives the very same numbers.
-    things = [(ball.x, ball.y, ball.vx, ball.vy)] + [(r.x, r.y, r.vx, r.vy) for r in others]
-    relative = [truth.to_body(*frame.point_to_team(wx, wy)) for wx, wy, _, _ in things]
-    in_range = [not (noise.vision_range > 0.0 and math.hypot(bx, by) > noise.vision_range) for bx, by in relative]
-    n = rng.normal(0.0, 1.0, size=6 + 4 * sum(in_range)).tolist()
-    est = Pose2D(tx + noise.self_position_std * n[0], ty + noise.self_position_std * n[1],
-                 wrap_angle(truth.theta + noise.heading_std * n[2]))
-    robot = RobotReport(agent_id, est, tvx + noise.velocity_std * n[3], tvy + noise.velocity_std * n[4], me.w,
-                        valid=flags.valid, stuck=flags.stuck, holding=flags.holding, kicking=flags.kicking)
-    seen: list[tuple[float, float, float, float] | None] = []  # (x, y, vx, vy) in the team frame, or out of range
-    k = 6
-    for (_, _, wvx, wvy), (bx, by), visible in zip(things, relative, in_range):
-        if not visible:
-            seen.append(None)
-            continue
-        d = n[k:k + 4]
-        k += 4
-        gx, gy = est.to_world(bx + noise.position_std * d[0], by + noise.position_std * d[1])
-        vx, vy = frame.velocity_to_team(wvx, wvy)
-        seen.append((gx, gy, vx + noise.velocity_std * d[2], vy + noise.velocity_std * d[3]))
-    ball_seen = seen[0]
-    percept = BallPercept(stamp, *ball_seen, velocity_known=True) if ball_seen is not None else None
-    obstacles = tuple((o[0], o[1]) for o in seen[1:] if o is not None)
-    return RobotView(stamp, robot, percept, obstacles)
+    return observe_all(stamp, [me, *others], [0], [frame], [agent_id], [flags], ball, noise, rng)[0]
+
+
+def observe_all(stamp: float, robots: Sequence[RobotState], observers: Sequence[int], frames: Sequence[TeamFrame],
+                agent_ids: Sequence[int], flags: Sequence[RobotFlags], ball: BallState, noise: NoiseParams,
+                rng: np.random.Generator) -> list[RobotView]:
+    """The vision frames at ``stamp`` [s] of the robots ``robots[i]`` for ``i`` in ``observers`` (each with its own
+    frame, AgentID and flags; every other robot of ``robots`` is an obstacle it may see), computed together
+    (``_kernels.vision_frames``). The noise is drawn in one call, in the order of one call per observer and object
+    (self, ball, robots in range), which gives the very same numbers as frame by frame."""
+    rows = [(r.x, r.y, r.theta, r.vx, r.vy, r.w) for r in robots]
+    ball_row = (ball.x, ball.y, ball.vx, ball.vy)
+    attacks = [f.attack for f in frames]
+    draws = _kernels.vision_draws(rows, ball_row, observers, attacks, noise.vision_range)
+    normals = rng.normal(0.0, 1.0, size=sum(draws))
+    made = _kernels.vision_frames(rows, ball_row, observers, attacks, (
+        noise.position_std, noise.velocity_std, noise.self_position_std, noise.heading_std, noise.vision_range),
+        normals)
+    views = []
+    for ((x, y, theta, vx, vy), seen, obstacles), i, agent_id, f in zip(made, observers, agent_ids, flags):
+        robot = RobotReport(agent_id, Pose2D(x, y, theta), vx, vy, robots[i].w, valid=f.valid, stuck=f.stuck,
+                            holding=f.holding, kicking=f.kicking)
+        percept = BallPercept(stamp, *seen, velocity_known=True) if seen is not None else None
+        views.append(RobotView(stamp, robot, percept, obstacles))
+    return views
 
 
 # The goalie's RGB-D cameras as the simulator's percepts give them (the robots not seeing through cameras): what

@@ -3,8 +3,9 @@
 Requires: ``SimConfig``. Provides: ``Simulator`` with the robot interface of the
 chapter (``command_velocity``, ``ball_handle``, ``shoot``), Gazebo-like world
 services (``model_states``, ``set_model_state``, ``reset``, ``spawn_robot``,
-``delete_robot``), ``switch_ends`` (half time), ``observe`` (noisy omni-vision frame of one robot; its noise-free
-truth: ``observe_truth``; a goalie's RGB-D ball: ``observe_ball3d``), the robot's own sensors for omni_vision
+``delete_robot``), ``switch_ends`` (half time), ``observe`` (noisy omni-vision frame of one robot; of many at
+once: ``observe_all``; its noise-free truth: ``observe_truth``; a goalie's RGB-D ball: ``observe_ball3d``), the
+robot's own sensors for omni_vision
 (``camera_frame``, ``odometry``, ``inertial_heading``), for front_vision (``front_camera_frame``) and for
 kinect_ball (``rgbd_frames``), and ``step`` which returns the events of that step (goals, kicks, touches,
 captures, releases, the holder changing). All
@@ -17,6 +18,7 @@ the limits of ``sim_visual.params``); a refusal raises ``SimVisualError`` and ch
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import astuple, dataclass, replace
 from typing import TYPE_CHECKING, Protocol
 
@@ -50,7 +52,7 @@ from sim_visual.rules import (
     lob_velocity,
     spread_kick,
 )
-from sim_visual.sensing import RobotFlags, observe, observe_ball3d
+from sim_visual.sensing import RobotFlags, observe, observe_all, observe_ball3d
 from sim_visual.sensors import RobotSensors
 from sim_visual.world import BallState, PhysicsWorld, RobotState
 
@@ -372,6 +374,19 @@ class Simulator:
         """What robot ``name``'s omni vision gives now: its percepts, in its team frame, with noise."""
         return self._observe(name, self.noise, self.rng)
 
+    def observe_all(self, names: Iterable[str]) -> list[RobotView]:
+        """What the omni vision of each robot of ``names`` gives now, in that order: the frames ``observe`` would give
+        one after the other (the same noise), made together."""
+        names = list(names)
+        for name in names:
+            self._plugin(name)
+        robots = list(self.plugins)
+        index = {n: i for i, n in enumerate(robots)}
+        return observe_all(self.time, [self.world.robot_state(n) for n in robots], [index[n] for n in names],
+                           [TeamFrame(self.plugins[n].spawn.attack) for n in names],
+                           [self.plugins[n].agent_id for n in names], [self._flags(n) for n in names],
+                           self.world.ball_state(), self.noise, self.rng)
+
     def observe_ball3d(self, name: str) -> Ball3dPercept | None:
         """The ball in 3-D as robot ``name``'s RGB-D cameras give it now (a goalie's; team frame, with noise);
         None out of their view. Its noise comes from a generator of its own: asking changes no other percept."""
@@ -384,15 +399,16 @@ class Simulator:
         draws nothing from the simulator's generator."""
         return self._observe(name, _NO_NOISE, np.random.default_rng(0))
 
+    def _flags(self, name: str) -> RobotFlags:
+        plugin, me = self.plugins[name], self.world.robot_state(name)
+        return RobotFlags(self.config.field.is_inside(me.x, me.y, self.config.field.border), plugin.stuck,
+                          self.holder == name, self.time - plugin.kicked_at < _KICK_FLAG_TIME)
+
     def _observe(self, name: str, noise: NoiseParams, rng: np.random.Generator) -> RobotView:
         plugin = self._plugin(name)
-        me = self.world.robot_state(name)
         others = [self.world.robot_state(n) for n in self.plugins if n != name]
-        field, margin = self.config.field, self.config.field.border
-        flags = RobotFlags(field.is_inside(me.x, me.y, margin), plugin.stuck, self.holder == name,
-                           self.time - plugin.kicked_at < _KICK_FLAG_TIME)
-        return observe(self.time, me, TeamFrame(plugin.spawn.attack), plugin.agent_id, flags,
-                       self.world.ball_state(), others, noise, rng)
+        return observe(self.time, self.world.robot_state(name), TeamFrame(plugin.spawn.attack), plugin.agent_id,
+                       self._flags(name), self.world.ball_state(), others, noise, rng)
 
     def camera_frame(self, name: str, labels: bool = False) -> RenderedFrame:
         """Robot ``name``'s omni camera image now (and each pixel's colour class with ``labels``)."""
