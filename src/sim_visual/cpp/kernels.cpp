@@ -90,6 +90,23 @@ PYBIND11_MODULE(_kernels, m) {
       "The observers' vision frames in their team frames; noise: position, velocity, self-position and heading "
       "standard deviations and the vision range; normals: the standard normal numbers vision_draws asked for.");
 
+  m.def(
+      "update_stuck",
+      [](const std::tuple<bool, double, double, double, double, double, bool>& before, double command_vx,
+         double command_vy, double x, double y, double dt, double time, double min_command, double filter_time,
+         double stuck_time) {
+        const auto& [has_last, last_x, last_y, ground_vx, ground_vy, slow_since, stuck] = before;
+        sim_visual::StuckState state{has_last, last_x, last_y, ground_vx, ground_vy, !std::isnan(slow_since),
+                                     std::isnan(slow_since) ? 0.0 : slow_since, stuck};
+        sim_visual::update_stuck(state, command_vx, command_vy, x, y, dt, time, {min_command, filter_time, stuck_time});
+        return std::make_tuple(state.has_last, state.last_x, state.last_y, state.ground_vx, state.ground_vy,
+                               state.slow ? state.slow_since : std::nan(""), state.stuck);
+      },
+      py::arg("state"), py::arg("command_vx"), py::arg("command_vy"), py::arg("x"), py::arg("y"), py::arg("dt"),
+      py::arg("time"), py::arg("min_command"), py::arg("filter_time"), py::arg("stuck_time"),
+      "A robot's stuck detection one update on; state: has a last position, its x, y, the ground velocity's vx, "
+      "vy, slow since (NaN: not slow), stuck.");
+
   py::class_<sim_visual::Surface>(m, "Surface", "Contact properties of a pair of kinds of geometry.")
       .def(py::init([](double mu, double bounce, int pair) { return sim_visual::Surface{true, mu, bounce, pair}; }),
            py::arg("mu"), py::arg("bounce"), py::arg("pair"));
@@ -122,19 +139,41 @@ PYBIND11_MODULE(_kernels, m) {
           py::arg("robot"), py::arg("state"))
       .def("heading", &Physics::heading, py::arg("robot"))
       .def(
-          "drive_bases",
-          [](Physics& p, const std::vector<std::tuple<int, double, double, double, std::array<double, 3>, bool>>& rows,
-             double dt, double linear_accel, double linear_brake, double angular_accel) {
-            std::vector<sim_visual::BaseCommand> commands;
-            commands.reserve(rows.size());
-            for (const auto& [robot, vx, vy, w, current, by_wheels] : rows) {
-              commands.push_back({robot, finite(vx, "vx"), finite(vy, "vy"), finite(w, "w"), finite(current, "a drive"),
-                                  by_wheels});
-            }
-            return p.drive_bases(commands, finite(dt, "dt"), {linear_accel, linear_brake, angular_accel});
+          "drive_robots",
+          [](Physics& p, double dt, double time, long steps, double timeout, int stuck_every, double min_command,
+             double filter_time, double stuck_time, double linear_accel, double linear_brake, double angular_accel) {
+            p.drive_robots(finite(dt, "dt"), finite(time, "time"), steps,
+                           {timeout, stuck_every, {min_command, filter_time, stuck_time},
+                            {linear_accel, linear_brake, angular_accel}});
           },
-          py::arg("commands"), py::arg("dt"), py::arg("linear_accel"), py::arg("linear_brake"),
-          py::arg("angular_accel"))
+          py::arg("dt"), py::arg("time"), py::arg("steps"), py::arg("timeout"), py::arg("stuck_every"),
+          py::arg("min_command"), py::arg("filter_time"), py::arg("stuck_time"), py::arg("linear_accel"),
+          py::arg("linear_brake"), py::arg("angular_accel"))
+      .def(
+          "set_command",
+          [](Physics& p, int robot, double vx, double vy, double w, double time) {
+            sim_visual::Base& b = p.base(robot);
+            b.command = finite(std::array<double, 3>{vx, vy, w}, "a command");
+            b.command_time = time;
+          },
+          py::arg("robot"), py::arg("vx"), py::arg("vy"), py::arg("w"), py::arg("time"))
+      .def(
+          "command", [](const Physics& p, int robot) { return p.base(robot).command; }, py::arg("robot"))
+      .def(
+          "set_by_wheels", [](Physics& p, int robot, bool on) { p.base(robot).by_wheels = on; }, py::arg("robot"),
+          py::arg("by_wheels"))
+      .def(
+          "set_drive",
+          [](Physics& p, int robot, const std::array<double, 3>& drive) {
+            p.base(robot).drive = finite(drive, "a drive");
+          },
+          py::arg("robot"), py::arg("drive"))
+      .def(
+          "drive_of", [](const Physics& p, int robot) { return p.base(robot).drive; }, py::arg("robot"))
+      .def(
+          "stuck", [](const Physics& p, int robot) { return p.base(robot).stuck.stuck; }, py::arg("robot"))
+      .def(
+          "reset_base", [](Physics& p, int robot) { p.base(robot) = sim_visual::Base{}; }, py::arg("robot"))
       .def(
           "drive",
           [](Physics& p, int robot, double vx, double vy, double w, bool world_frame) {

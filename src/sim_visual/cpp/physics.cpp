@@ -53,6 +53,31 @@ std::array<double, 3> limit_drive(const std::array<double, 3>& current, const st
   return {vx + dvx, vy + dvy, w + std::max(-turn, std::min(turn, wanted[2] - w))};
 }
 
+void update_stuck(StuckState& state, double command_vx, double command_vy, double x, double y, double dt, double time,
+                  const StuckParams& params) {
+  const bool had_last = state.has_last;
+  const double last_x = state.last_x, last_y = state.last_y;
+  state.has_last = true;
+  state.last_x = x;
+  state.last_y = y;
+  if (!had_last) return;
+  const double gain = std::min(1.0, dt / params.filter_time);  // contacts make the position jitter from step to step
+  state.ground_vx += gain * ((x - last_x) / dt - state.ground_vx);
+  state.ground_vy += gain * ((y - last_y) / dt - state.ground_vy);
+  const double wanted = std::hypot(command_vx, command_vy);
+  const double actual = std::hypot(state.ground_vx, state.ground_vy);
+  if (wanted > params.min_command && actual < 0.5 * wanted) {
+    if (!state.slow) {
+      state.slow = true;
+      state.slow_since = time;
+    }
+    state.stuck = time - state.slow_since >= params.stuck_time;
+  } else {
+    state.slow = false;
+    state.stuck = false;
+  }
+}
+
 Physics::Physics(double gravity, double erp, double cfm, const BallParams& ball) : ball_params_(ball) {
   dInitODE2(0);
   world_ = dWorldCreate();
@@ -210,18 +235,30 @@ void Physics::drive(int robot, double vx, double vy, double w, bool world_frame)
   dBodySetAngularVel(body, 0.0, 0.0, w);
 }
 
-std::vector<std::array<double, 3>> Physics::drive_bases(const std::vector<BaseCommand>& commands, double dt,
-                                                        const DriveLimits& limits) {
-  std::vector<std::array<double, 3>> out;
-  out.reserve(commands.size());
-  for (const BaseCommand& command : commands) {
-    const double yaw = heading(command.robot);
+Base& Physics::base(int robot) {
+  robot_at(robot);
+  return robots_[static_cast<std::size_t>(robot)].base;
+}
+
+void Physics::drive_robots(double dt, double time, long steps, const BaseParams& params) {
+  if (params.stuck_every < 1) throw std::invalid_argument("stuck_every must be at least 1");
+  const bool stuck_due = steps % params.stuck_every == 0;
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    Robot& r = robots_[i];
+    if (r.body == nullptr) continue;
+    Base& b = r.base;
+    std::array<double, 3> command = b.command;
+    if (params.timeout > 0.0 && time - b.command_time > params.timeout) command = {0.0, 0.0, 0.0};
+    if (stuck_due) {
+      const dReal* p = dBodyGetPosition(r.body);
+      update_stuck(b.stuck, command[0], command[1], p[0], p[1], params.stuck_every * dt, time, params.stuck);
+    }
+    const double yaw = yaw_of(dBodyGetQuaternion(r.body));
     const double c = std::cos(yaw), s = std::sin(yaw);
-    const std::array<double, 3> wanted = {c * command.vx - s * command.vy, s * command.vx + c * command.vy, command.w};
-    out.push_back(command.by_wheels ? wanted : limit_drive(command.current, wanted, dt, limits));
-    drive(command.robot, out.back()[0], out.back()[1], out.back()[2], true);
+    const std::array<double, 3> wanted = {c * command[0] - s * command[1], s * command[0] + c * command[1], command[2]};
+    b.drive = b.by_wheels ? wanted : limit_drive(b.drive, wanted, dt, params.limits);
+    drive(static_cast<int>(i), b.drive[0], b.drive[1], b.drive[2], true);
   }
-  return out;
 }
 
 std::array<double, 9> Physics::ball_state() const {

@@ -6,7 +6,9 @@ inside a compiled one (the MPC's commands, the planner's plans, the kept plan's 
 the acceleration check and the obstacle table, all inside the motion layer's compiled cycle) went with them, their
 traces stay in ``nubot_control/test/golden/`` (``mpc``, ``plan``, ``clear``, ``states``, ``accel``, ``table``) and the
 unit tests hold the compiled pieces to them; so does the simulator's base model (``limit_drive``, now inside the
-compiled physics world's ``drive_bases``; ``sim_visual/test/golden/drive.npz``). What can still be recorded:
+compiled physics world's ``drive_robots``; ``sim_visual/test/golden/drive.npz``) and its stuck detection (also
+inside ``drive_robots``; ``stuck.npz``: every update over 20 s of seed 0 and 20 s of robots pushed into the goal, a
+wall and each other). What can still be recorded:
 
 ``python -m nubot_tools.golden follow --out FILE [--tracker baseline]`` records whole sequences of
 ``MotionController`` cycles: every ``follow`` (and ``reset``) of ``--trackers`` robots' motion layers in order, with
@@ -252,7 +254,7 @@ def record_physics(seeds: list[int], seconds: float) -> dict[str, np.ndarray]:
     ids: dict[int, int] = {}
     names: dict[int, list[str]] = {}
     original = {n: getattr(PhysicsWorld, n) for n in ("__init__", "add_robot", "remove_robot", "set_robot_state",
-                                                     "drive_robot", "drive_bases", "set_ball_state",
+                                                     "drive_robot", "drive_robots", "set_ball_state",
                                                      "set_ball_collides_with", "step")}
 
     def world_of(self: Any) -> int:
@@ -288,11 +290,10 @@ def record_physics(seeds: list[int], seconds: float) -> dict[str, np.ndarray]:
         add("drive", self, robot_of(self, name), [vx, vy, w, float(world_frame)])
         original["drive_robot"](self, name, vx, vy, w, world_frame)
 
-    def drive_bases(self: Any, commands: list, dt: float, limits: Any) -> list:
-        drives = original["drive_bases"](self, commands, dt, limits)
-        for (name, *_), drive in zip(commands, drives):  # as driving each robot in the world frame
-            add("drive", self, robot_of(self, name), [*drive, 1.0])
-        return drives
+    def drive_robots(self: Any, dt: float, *args: Any) -> None:
+        original["drive_robots"](self, dt, *args)
+        for name in self.robot_names:  # as driving each robot in the world frame
+            add("drive", self, robot_of(self, name), [*self.base_drive(name), 1.0])
 
     def set_ball_state(self: Any, state: Any) -> None:
         add("set_ball", self, -1, list(dataclasses.astuple(state)))
@@ -314,7 +315,7 @@ def record_physics(seeds: list[int], seconds: float) -> dict[str, np.ndarray]:
 
     wrappers: dict[str, Callable[..., Any]] = {
         "__init__": init, "add_robot": add_robot, "remove_robot": remove_robot, "set_robot_state": set_robot_state,
-        "drive_robot": drive_robot, "drive_bases": drive_bases, "set_ball_state": set_ball_state,
+        "drive_robot": drive_robot, "drive_robots": drive_robots, "set_ball_state": set_ball_state,
         "set_ball_collides_with": set_ball_collides_with, "step": step}
     play_wrapped(PhysicsWorld, wrappers, seeds, seconds)
     return {"index": np.array([r[:3] for r in rows], dtype=np.int64),

@@ -7,6 +7,7 @@
 #include <ode/ode.h>
 
 #include <array>
+#include <limits>
 #include <vector>
 
 namespace sim_visual {
@@ -38,13 +39,47 @@ struct DriveLimits {
 std::array<double, 3> limit_drive(const std::array<double, 3>& current, const std::array<double, 3>& wanted, double dt,
                                   const DriveLimits& limits);
 
-// One robot's base for a step: its body-frame command, what its base gives now (world frame), and whether it is
-// driven by its wheels (whose own model gives their dynamics: no base limits).
-struct BaseCommand {
-  int robot;
-  double vx, vy, w;
-  std::array<double, 3> current;
-  bool by_wheels;
+// A robot's stuck detection (the simulator's RobotInfo.isstuck): its ground velocity, low-passed from its displacement
+// between updates (a robot pressed against an obstacle keeps its commanded velocity), and since when it has moved at
+// less than half a command of at least min_command.
+struct StuckState {
+  bool has_last = false;
+  double last_x = 0.0, last_y = 0.0;        // where it was at the previous update [m]
+  double ground_vx = 0.0, ground_vy = 0.0;  // [m/s]
+  bool slow = false;
+  double slow_since = 0.0;  // [s], when slow
+  bool stuck = false;
+};
+
+struct StuckParams {
+  double min_command;  // commands slower than this never count as stuck [m/s]
+  double filter_time;  // time constant of the ground velocity [s]
+  double stuck_time;   // slow this long: stuck [s]
+};
+
+// The detector one update on: the robot at (x, y) [m] at time [s], dt [s] after the previous update, commanded
+// (vx, vy) [m/s] in its body frame.
+void update_stuck(StuckState& state, double command_vx, double command_vy, double x, double y, double dt, double time,
+                  const StuckParams& params);
+
+// What a robot's base has been told and gives: the last velocity command (body frame) and when it came, what the base
+// gives now (world frame), whether its wheels drive it (their own model gives their dynamics: no base limits), and its
+// stuck detection.
+struct Base {
+  std::array<double, 3> command{};  // vx, vy [m/s], w [rad/s]
+  double command_time = -std::numeric_limits<double>::infinity();
+  std::array<double, 3> drive{};
+  bool by_wheels = false;
+  StuckState stuck;
+};
+
+// How the bases step: commands older than timeout [s] (0: never) are a stop; the stuck detection runs every
+// stuck_every steps (over stuck_every * dt).
+struct BaseParams {
+  double timeout;
+  int stuck_every;
+  StuckParams stuck;
+  DriveLimits limits;
 };
 
 // A body as ODE holds it: position, orientation (w, x, y, z), linear and angular velocity.
@@ -73,10 +108,13 @@ class Physics {
   void set_robot_state(int robot, const std::array<double, 6>& state);
   double heading(int robot) const;
   void drive(int robot, double vx, double vy, double w, bool world_frame);
-  // Every base one step on: each command turned into the world frame by the robot's heading now, reached within the
-  // limits from what the base gives now (unless driven by its wheels), then driven. Returns what each base gives.
-  std::vector<std::array<double, 3>> drive_bases(const std::vector<BaseCommand>& commands, double dt,
-                                                 const DriveLimits& limits);
+  // The robots' bases (what the simulator's model plugin drives): each robot's own, made at rest with add_robot.
+  Base& base(int robot);
+  const Base& base(int robot) const { return const_cast<Physics*>(this)->base(robot); }
+  // Every robot's base one step of dt [s] on at time [s] (steps before: steps): its command (a stop once older than
+  // the timeout), the stuck detection when due, the command turned into the world frame by the robot's heading now and
+  // reached within the limits from what the base gives now (unless its wheels drive it), then driven.
+  void drive_robots(double dt, double time, long steps, const BaseParams& params);
 
   std::array<double, 9> ball_state() const;  // position, velocity, spin
   void set_ball_state(const std::array<double, 9>& state);
@@ -95,6 +133,7 @@ class Physics {
   struct Robot {
     dBodyID body = nullptr;
     dGeomID holder = nullptr, cylinder = nullptr;
+    Base base;
   };
   struct GeomInfo {
     int kind, robot;

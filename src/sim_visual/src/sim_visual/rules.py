@@ -49,7 +49,7 @@ def limit_drive(current: tuple[float, float, float], wanted: tuple[float, float,
     """The base's velocity (vx, vy [m/s], world frame, w [rad/s]) one step of ``dt`` [s] after ``current`` on its way
     to ``wanted``: the linear change at most ``max_linear_brake * dt`` while the speed falls, else
     ``max_linear_accel * dt``; the turn rate's change at most ``max_angular_accel * dt`` (compiled:
-    ``sim_visual/physics.hpp``, which drives every robot's base in a step with it, ``PhysicsWorld.drive_bases``)."""
+    ``sim_visual/physics.hpp``, which drives every robot's base in a step with it, ``PhysicsWorld.drive_robots``)."""
     return _kernels.limit_drive(current, wanted, dt, *drive_limits(params))
 
 

@@ -129,21 +129,14 @@ SimEvent = GoalScored | BallKicked | BallCaptured | BallReleased | BallTouched |
 
 @dataclass
 class RobotPlugin:
-    """Per-robot state of the model plugin."""
+    """Per-robot state of the model plugin; its base's (the command, what the base gives, the stuck detection) is
+    the physics world's (``PhysicsWorld.drive_robots``)."""
 
     spawn: RobotSpawn
     agent_id: int
-    command: BodyVelocity = BodyVelocity()
-    command_time: float = -math.inf
     dribble_enabled: bool = False
     no_capture_until: float = 0.0
-    slow_since: float | None = None
-    last_position: tuple[float, float] | None = None
-    ground_velocity: tuple[float, float] = (0.0, 0.0)  # low-passed displacement rate [m/s]
-    stuck: bool = False
     kicked_at: float = -math.inf
-    drive: tuple[float, float, float] = (0.0, 0.0, 0.0)  # what the base gives now: vx, vy [m/s] (world), w [rad/s]
-    by_wheels: bool = False  # driven by wheel speeds (a drive model of its own gives their dynamics): no base limits
     slipping_since: float | None = None  # holding the ball outside the grip's limits since [s]
 
 
@@ -211,6 +204,7 @@ class Simulator:
         for name, plugin in self.plugins.items():
             s = plugin.spawn
             self.world.set_robot_state(name, RobotState(s.x, s.y, s.theta, 0.0, 0.0, 0.0))
+            self.world.reset_base(name)
             self.plugins[name] = RobotPlugin(s, plugin.agent_id)
         self._place_ball_start()
         self.last_touch = self._reported_touch = ""
@@ -230,6 +224,7 @@ class Simulator:
             self.world.set_robot_state(name, RobotState(now.x, now.y, now.theta, 0.0, 0.0, 0.0))
             start = turn.pose_to_world(Pose2D(plugin.spawn.x, plugin.spawn.y, plugin.spawn.theta))
             spawn = replace(plugin.spawn, x=start.x, y=start.y, theta=start.theta, attack=-plugin.spawn.attack)
+            self.world.reset_base(name)
             self.plugins[name] = RobotPlugin(spawn, plugin.agent_id, dribble_enabled=plugin.dribble_enabled)
         b = self.world.ball_state()
         bx, by = turn.point_to_world(b.x, b.y)
@@ -254,7 +249,7 @@ class Simulator:
             raise SimVisualError(f"robot {name!r} needs a RobotState")
         self._check_robot_state(name, state)
         self.world.set_robot_state(name, state)
-        self.plugins[name].drive = (state.vx, state.vy, state.w)
+        self.world.set_base_drive(name, state.vx, state.vy, state.w)
 
     def _check_robot_state(self, name: str, s: RobotState) -> None:
         _require_finite(name, s)
@@ -285,9 +280,9 @@ class Simulator:
     # --- the robot interface (Table 3) ------------------------------------------------------
     def command_velocity(self, name: str, vx: float, vy: float, w: float) -> tuple[BodyVelocity, bool]:
         """Set a robot's body-frame velocity command; returns it (clamped) and whether it was clamped."""
-        plugin = self._plugin(name)
+        self._plugin(name)
         command, clamped = clamp_command(vx, vy, w, self.plugin_params)
-        plugin.command, plugin.command_time = command, self.time
+        self.world.set_command(name, command, self.time)
         return command, clamped
 
     def command_wheels(self, name: str, base: WheelBase, rim_speeds: np.ndarray) -> tuple[BodyVelocity, bool]:
@@ -299,7 +294,7 @@ class Simulator:
         if not np.all(np.isfinite(speeds)):
             raise SimVisualError(f"wheel speeds must be finite, got {speeds.tolist()}")
         command = self.command_velocity(name, *base.body_velocity(speeds))
-        self.plugins[name].by_wheels = True
+        self.world.set_driven_by_wheels(name)
         return command
 
     def wheel_ground_speeds(self, name: str, base: WheelBase) -> np.ndarray:
@@ -401,7 +396,7 @@ class Simulator:
 
     def _flags(self, name: str) -> RobotFlags:
         plugin, me = self.plugins[name], self.world.robot_state(name)
-        return RobotFlags(self.config.field.is_inside(me.x, me.y, self.config.field.border), plugin.stuck,
+        return RobotFlags(self.config.field.is_inside(me.x, me.y, self.config.field.border), self.world.stuck(name),
                           self.holder == name, self.time - plugin.kicked_at < _KICK_FLAG_TIME)
 
     def _observe(self, name: str, noise: NoiseParams, rng: np.random.Generator) -> RobotView:
@@ -430,8 +425,8 @@ class Simulator:
 
     def odometry(self, name: str, dt: float) -> OdometryReading:
         """Robot ``name``'s wheel odometry now, ``dt`` [s] after its previous reading."""
-        plugin = self._plugin(name)
-        return self.sensors.odometry(name, self.world.robot_state(name), dt, plugin.stuck)
+        self._plugin(name)
+        return self.sensors.odometry(name, self.world.robot_state(name), dt, self.world.stuck(name))
 
     def inertial_heading(self, name: str, dt: float) -> ImuReading:
         """Robot ``name``'s inertial heading now (team frame: 0 faces the goal it attacks), ``dt`` [s] after
@@ -446,19 +441,9 @@ class Simulator:
         """Advance one physics step and return what happened in it."""
         dt = self.config.physics.step_size
         events: list[SimEvent] = []
-        timeout = self.plugin_params.command_timeout
-        stuck_due = self.steps % _STUCK_EVERY == 0
-        commands = []
-        for name, plugin in self.plugins.items():
-            command = plugin.command
-            if timeout > 0.0 and self.time - plugin.command_time > timeout:
-                command = BodyVelocity()
-            if stuck_due:
-                self._update_stuck(plugin, command, self.world.robot_state(name), _STUCK_EVERY * dt)
-            commands.append((name, command, plugin.drive, plugin.by_wheels))
-        drives = self.world.drive_bases(commands, dt, drive_limits(self.plugin_params))
-        for plugin, drive in zip(self.plugins.values(), drives):
-            plugin.drive = drive
+        self.world.drive_robots(dt, self.time, self.steps, self.plugin_params.command_timeout,
+                                drive_limits(self.plugin_params),
+                                (_STUCK_EVERY, _STUCK_MIN_COMMAND, _STUCK_FILTER_TIME, self.plugin_params.stuck_time))
         if self.holder is not None:
             events += self._check_grip(self.holder, dt)
         self.world.set_ball_collides_with(self.holder)
@@ -486,30 +471,11 @@ class Simulator:
             events.append(goal)
         return events
 
-    def _update_stuck(self, plugin: RobotPlugin, command: BodyVelocity, state: RobotState, dt: float) -> None:
-        # Displacement, not body velocity: a robot pressed against an obstacle keeps its commanded velocity.
-        last, plugin.last_position = plugin.last_position, (state.x, state.y)
-        if last is None:
-            return
-        gain = min(1.0, dt / _STUCK_FILTER_TIME)  # contacts make the position jitter from step to step
-        vx, vy = plugin.ground_velocity
-        vx += gain * ((state.x - last[0]) / dt - vx)
-        vy += gain * ((state.y - last[1]) / dt - vy)
-        plugin.ground_velocity = (vx, vy)
-        wanted = math.hypot(command.vx, command.vy)
-        actual = math.hypot(vx, vy)
-        if wanted > _STUCK_MIN_COMMAND and actual < 0.5 * wanted:
-            if plugin.slow_since is None:
-                plugin.slow_since = self.time
-            plugin.stuck = self.time - plugin.slow_since >= self.plugin_params.stuck_time
-        else:
-            plugin.slow_since, plugin.stuck = None, False
-
     def _check_grip(self, name: str, dt: float) -> list[SimEvent]:
         """The holder moving faster than its ball handler can hold for ``hold_slip_time`` loses the ball: it rolls on
         with the velocity it had, and the robot cannot take it again for ``kick_recapture_delay``."""
         plugin, p = self.plugins[name], self.plugin_params
-        vx, vy, w = plugin.drive
+        vx, vy, w = self.world.base_drive(name)
         heading = self.world.heading(name)
         bx, by = rotate(vx, vy, -heading)
         if grip_holds(bx, by, w, p):

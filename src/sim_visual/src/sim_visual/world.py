@@ -185,17 +185,46 @@ class PhysicsWorld:
         self._robot_states.pop(name, None)
         self._core.drive(handle, vx, vy, w, world_frame)
 
-    def drive_bases(self, commands: list[tuple[str, BodyVelocity, tuple[float, float, float], bool]], dt: float,
-                    limits: tuple[float, float, float]) -> list[tuple[float, float, float]]:
-        """Every robot's base one step of ``dt`` on: per robot (name, body-frame command, what its base gives now as
-        vx, vy [m/s] world frame and w [rad/s], driven by its wheels), the command turned into the world frame by
-        the heading now and reached from what the base gives within ``limits`` (linear acceleration and braking
-        [m/s^2], angular acceleration [rad/s^2]; ``limit_drive``) unless the wheels drive it, then driven
-        (``drive_robot``). Returns what each base gives now."""
-        rows = [(self._robot(name), c.vx, c.vy, c.w, current, by_wheels) for name, c, current, by_wheels in commands]
-        for name, *_ in commands:
-            self._robot_states.pop(name, None)
-        return [(vx, vy, w) for vx, vy, w in self._core.drive_bases(rows, dt, *limits)]
+    # --- the robots' bases ---------------------------------------------------------------
+    def set_command(self, name: str, command: BodyVelocity, time: float) -> None:
+        """Robot ``name``'s base velocity command (body frame), given at ``time`` [s]."""
+        self._core.set_command(self._robot(name), command.vx, command.vy, command.w, time)
+
+    def command(self, name: str) -> BodyVelocity:
+        """Robot ``name``'s last base velocity command (body frame); at rest until it gets one."""
+        return BodyVelocity(*self._core.command(self._robot(name)))
+
+    def set_driven_by_wheels(self, name: str) -> None:
+        """From now on robot ``name``'s wheels drive its base: a drive model of their own gives their dynamics, so
+        its commands reach the base without the base's limits."""
+        self._core.set_by_wheels(self._robot(name), True)
+
+    def base_drive(self, name: str) -> tuple[float, float, float]:
+        """What robot ``name``'s base gives now: vx, vy [m/s] (world frame), w [rad/s]."""
+        vx, vy, w = self._core.drive_of(self._robot(name))
+        return vx, vy, w
+
+    def set_base_drive(self, name: str, vx: float, vy: float, w: float) -> None:
+        self._core.set_drive(self._robot(name), (vx, vy, w))
+
+    def stuck(self, name: str) -> bool:
+        """Whether robot ``name`` has moved at less than half its command for the stuck time (``drive_robots``)."""
+        return self._core.stuck(self._robot(name))
+
+    def reset_base(self, name: str) -> None:
+        """Robot ``name``'s base as a new one: no command, at rest, not driven by wheels, not stuck."""
+        self._core.reset_base(self._robot(name))
+
+    def drive_robots(self, dt: float, time: float, steps: int, timeout: float, limits: tuple[float, float, float],
+                     stuck: tuple[int, float, float, float]) -> None:
+        """Every robot's base one step of ``dt`` [s] on at ``time`` [s] (``steps`` steps made before), in one
+        compiled call: its command (a stop once older than ``timeout`` [s]; 0: never), the stuck detection every
+        ``stuck[0]`` steps (a command of at least ``stuck[1]`` m/s, the ground velocity low-passed over ``stuck[2]``
+        s, slow for ``stuck[3]`` s), the command turned into the world frame by the heading now and reached from
+        what the base gives within ``limits`` (linear acceleration and braking [m/s^2], angular acceleration
+        [rad/s^2]; ``rules.limit_drive``) unless the wheels drive it, then driven (``drive_robot``)."""
+        self._robot_states.clear()
+        self._core.drive_robots(dt, time, steps, timeout, *stuck, *limits)
 
     # --- ball -------------------------------------------------------------------------
     def ball_state(self) -> BallState:

@@ -92,18 +92,26 @@ def test_the_compiled_base_model_gives_the_recorded_velocities():
 
 
 def test_driving_every_base_at_once_is_driving_each_within_its_limits():
-    """``drive_bases``: the command turned into the world frame by the heading, reached within the limits (or at once
-    for a robot its wheels drive), and the robot driven so."""
+    """``drive_robots``: each robot's command turned into the world frame by its heading, reached within the limits
+    (or at once for a robot its wheels drive), and the robot driven so; a command older than the timeout is a stop."""
     world = PhysicsWorld(FieldGeometry(), PhysicsParams(), RobotBody(), BallBody())
     world.add_robot("a", -2.0, 0.0, math.pi / 2)
     world.add_robot("b", 2.0, 0.0, 0.0)
+    world.add_robot("c", 0.0, 3.0, 0.0)
     params = PluginParams()
-    drives = world.drive_bases([("a", BodyVelocity(2.0, 0.0, 1.0), (0.0, 0.0, 0.0), False),
-                                ("b", BodyVelocity(1.0, 0.5, 0.0), (0.0, 0.0, 0.0), True)], 0.005,
-                               drive_limits(params))
-    assert drives[0] == pytest.approx(limit_drive((0.0, 0.0, 0.0), (0.0, 2.0, 1.0), 0.005, params), abs=1e-12)
-    assert drives[1] == pytest.approx((1.0, 0.5, 0.0))
-    assert world.bodies()["a"][7:9] == pytest.approx(drives[0][:2]) and world.bodies()["a"][12] == drives[0][2]
+    world.set_command("a", BodyVelocity(2.0, 0.0, 1.0), 0.0)
+    world.set_command("b", BodyVelocity(1.0, 0.5, 0.0), 0.0)
+    world.set_driven_by_wheels("b")
+    world.set_command("c", BodyVelocity(1.0, 0.0, 0.0), -1.0)  # older than the timeout below
+    world.set_base_drive("c", 0.0, 0.5, 0.0)
+    world.drive_robots(0.005, 0.0, 0, 0.5, drive_limits(params), (4, 0.3, 0.2, 1.0))
+    drive_a = limit_drive((0.0, 0.0, 0.0), (0.0, 2.0, 1.0), 0.005, params)
+    assert world.base_drive("a") == pytest.approx(drive_a, abs=1e-12)
+    assert world.base_drive("b") == pytest.approx((1.0, 0.5, 0.0))
+    assert world.base_drive("c") == tuple(limit_drive((0.0, 0.5, 0.0), (0.0, 0.0, 0.0), 0.005, params))
+    assert world.bodies()["a"][7:9] == pytest.approx(drive_a[:2]) and world.bodies()["a"][12] == drive_a[2]
+    assert world.command("a") == BodyVelocity(2.0, 0.0, 1.0) and not world.stuck("a")
     with pytest.raises(ValueError, match="finite"):
-        world.drive_bases([("a", BodyVelocity(math.nan, 0.0, 0.0), (0.0, 0.0, 0.0), False)], 0.005,
-                          drive_limits(params))
+        world.set_command("a", BodyVelocity(math.nan, 0.0, 0.0), 0.0)
+    world.reset_base("a")
+    assert world.command("a") == BodyVelocity() and world.base_drive("a") == (0.0, 0.0, 0.0)

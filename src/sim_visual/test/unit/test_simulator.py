@@ -120,7 +120,7 @@ def test_one_control_cycle_s_commands_go_through_the_interface_in_order(make_sim
     cycle kicks it; without the ball the shot is not done; without a kick there is nothing to report."""
     sim = make_sim(ball=(0.45, 0.0))
     assert sim.execute("nubot1", RobotCommand(BodyVelocity(0.5, 0.0, 0.0))) == (True, None)
-    assert sim.plugins["nubot1"].command == BodyVelocity(0.5, 0.0, 0.0)
+    assert sim.world.command("nubot1") == BodyVelocity(0.5, 0.0, 0.0)
     done, event = sim.execute("nubot1", RobotCommand(BodyVelocity(), True, 1, KickCommand(KickKind.GROUND, 4)))
     assert done and isinstance(event, BallKicked) and event.robot == "nubot1"
     far = make_sim(ball=(3.0, 0.0))
