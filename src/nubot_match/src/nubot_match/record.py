@@ -177,6 +177,7 @@ class MatchLogRecorder(MatchListener):
     def finish(self) -> ma.MatchLog:
         """The log so far, with its tracks built (call once the match is over)."""
         times = np.array(self._times, dtype=float)
+        self._times = array("d")  # the copy above is what the tracks keep
         log = self.log
         for name in list(self._positions):
             spill = self._positions.pop(name)

@@ -634,13 +634,18 @@ def _pass_outcome(kick: Kick, touches: Sequence[Touch], goal_times: Sequence[flo
 
 def distance_run(track: Track, teleport_step: float = 1.0) -> float:
     """Return the planar path length [m], leaving out steps longer than ``teleport_step`` [m]."""
-    if len(track.xy) < 2:
-        return 0.0
-    steps = np.hypot(*np.diff(track.xy, axis=0).T)
-    return float(steps[steps <= teleport_step].sum())
+    total = 0.0
+    for start in range(0, len(track.xy) - 1, _STEPS_CHUNK):  # a piece at a time: a whole track's steps take MiBs
+        steps = np.hypot(*np.diff(track.xy[start:start + _STEPS_CHUNK + 1], axis=0).T)
+        total += float(steps[steps <= teleport_step].sum())
+    return total
 
 
-_CHUNK = 8192  # samples compared at a time: the pairwise arrays of a whole match would take hundreds of MiB
+_STEPS_CHUNK = 16384  # steps of a track summed at a time
+
+
+_CHUNK = 2048  # samples compared at a time: the pairwise arrays of a whole match would take hundreds of MiB (45
+# pairs x 2048 samples: about 4 MiB of arrays at a time)
 
 
 def resample(tracks: Sequence[Track], t: np.ndarray) -> np.ndarray:
@@ -697,7 +702,7 @@ def collisions(tracks: dict[str, Track], intervals: Sequence[tuple[float, float]
 def nearest_robot(tracks: Sequence[Track], t: np.ndarray, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Return, at each time of ``t``, which of ``tracks`` is nearest to the point ``xy`` (len(t), 2) [m] and how far
     it is (inf where no track covers the time)."""
-    nearest = np.zeros(len(t), dtype=int)
+    nearest = np.zeros(len(t), dtype=np.int16)  # an index into tracks (a match has at most a few dozen)
     nearest_distance = np.full(len(t), np.inf)
     for start in range(0, len(t), _CHUNK):
         end = start + _CHUNK
