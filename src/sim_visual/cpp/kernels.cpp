@@ -133,6 +133,7 @@ PYBIND11_MODULE(_kernels, m) {
       .def("remove_robot", &Physics::remove_robot, py::arg("robot"))
       .def(
           "robot_state", [](const Physics& p, int robot) { return p.robot_state(robot); }, py::arg("robot"))
+      .def("robot_states", &Physics::robot_states)
       .def(
           "set_robot_state",
           [](Physics& p, int robot, const std::array<double, 6>& s) { p.set_robot_state(robot, finite(s, "a state")); },

@@ -205,6 +205,15 @@ std::array<double, 6> Physics::robot_state(int robot) const {
   return {p[0], p[1], yaw_of(dBodyGetQuaternion(body)), v[0], v[1], dBodyGetAngularVel(body)[2]};
 }
 
+std::vector<std::pair<int, std::array<double, 6>>> Physics::robot_states() const {
+  std::vector<std::pair<int, std::array<double, 6>>> out;
+  out.reserve(robots_.size());
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    if (robots_[i].body != nullptr) out.emplace_back(static_cast<int>(i), robot_state(static_cast<int>(i)));
+  }
+  return out;
+}
+
 void Physics::set_robot_state(int robot, const std::array<double, 6>& s) {
   const dBodyID body = robot_at(robot).body;
   dBodySetPosition(body, s[0], s[1], 0.0);

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace sim_visual {
@@ -105,6 +106,8 @@ class Physics {
   int add_robot(double mass, double inertia_zz, double radius, double height, unsigned category, unsigned collide);
   void remove_robot(int robot);
   std::array<double, 6> robot_state(int robot) const;  // x, y, heading, vx, vy, yaw rate
+  // Every robot's state, by handle in the order they were added.
+  std::vector<std::pair<int, std::array<double, 6>>> robot_states() const;
   void set_robot_state(int robot, const std::array<double, 6>& state);
   double heading(int robot) const;
   void drive(int robot, double vx, double vy, double w, bool world_frame);

@@ -231,7 +231,7 @@ class Simulator:
         self._put_ball(BallState(bx, by, max(b.z, self.config.ball.radius), 0.0, 0.0, 0.0))
 
     def model_states(self) -> list[tuple[str, RobotState | BallState]]:
-        states: list[tuple[str, RobotState | BallState]] = [(n, self.world.robot_state(n)) for n in self.plugins]
+        states: list[tuple[str, RobotState | BallState]] = list(zip(self.plugins, self.world.robot_states()))
         states.append((self.config.ball_name, self.world.ball_state()))
         return states
 
@@ -377,7 +377,7 @@ class Simulator:
             self._plugin(name)
         robots = list(self.plugins)
         index = {n: i for i, n in enumerate(robots)}
-        return observe_all(self.time, [self.world.robot_state(n) for n in robots], [index[n] for n in names],
+        return observe_all(self.time, self.world.robot_states(), [index[n] for n in names],
                            [TeamFrame(self.plugins[n].spawn.attack) for n in names],
                            [self.plugins[n].agent_id for n in names], [self._flags(n) for n in names],
                            self.world.ball_state(), self.noise, self.rng)

@@ -168,6 +168,16 @@ class PhysicsWorld:
             self._robot_states[name] = state
         return state
 
+    def robot_states(self) -> list[RobotState]:
+        """Every robot's state now, in the order of ``robot_names`` (read in one call)."""
+        cache, names = self._robot_states, self._names
+        if len(cache) != len(self._robots):
+            for handle, row in self._core.robot_states():
+                name = names[handle]
+                if name not in cache:
+                    cache[name] = RobotState(*row)
+        return [cache[name] for name in self._robots]
+
     def set_robot_state(self, name: str, state: RobotState) -> None:
         handle = self._robot(name)
         self._robot_states.pop(name, None)
