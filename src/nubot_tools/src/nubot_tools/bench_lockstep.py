@@ -24,8 +24,9 @@ line); a table on stdout. Parts (``--only``, comma-separated; default all):
   comparison (the reference saw 60,000-70,000 steps/s on this machine). Both again with every robot
   heading for the one point (``*_scrum``): contacts cost most of a step.
 - ``env``: ``gymnasium.make("NuBot/ScoreAgainstGoalie-v0")`` with random actions: steps per second.
-- ``memory``: the peak RSS (``ru_maxrss``) of a fresh process after its imports and after playing one
-  lockstep 5 vs 5 match (``nubot_match.evaluate.play_match``).
+- ``memory``: the peak RSS (``ru_maxrss``) of a fresh process after its imports and after playing one full
+  2 x 15 min lockstep 5 vs 5 match and its report (``nubot_match.evaluate.play_match``; target 150 MiB), and
+  its RSS every 5 s of wall time while it played (target: flat after the first minute).
 - ``evaluate``: ``nubot_match.evaluate.main`` with ``--jobs 1`` and then ``--jobs 2`` on the same
   matches: simulated seconds per wall second each and their ratio (target >= 1.8).
 - ``recording``: the lockstep match (mpc) with ``BagRecorder(robots=False)`` and ``robots=True``.
@@ -88,7 +89,9 @@ class Durations:
     evaluate_halves: int
 
 
-FULL = Durations(5.0, 60.0, 30_000, 60_000, 2_000, 30.0, 2, 4, 15.0, 2)
+TARGET_MEMORY_MIB = 150.0  # one full match's process, its report included
+
+FULL = Durations(5.0, 60.0, 30_000, 60_000, 2_000, 900.0, 2, 4, 15.0, 2)  # memory: a full 2 x 15 min
 QUICK = Durations(2.0, 10.0, 3_000, 10_000, 200, 5.0, 1, 2, 5.0, 1)
 
 
@@ -185,7 +188,7 @@ def lockstep_case(tracker: str, d: Durations, cpu: int | None, listeners: Sequen
     sim = match.sim
     assert sim is not None
     physics, ode_part = timed(sim, "step"), timed(sim.world, "step")
-    sensing = timed(sim, "observe")
+    sensing = timed(sim, "observe_all")  # every robot's vision frame at once
     cycles = [timed(agent, "step") for agent in match.agents.values()]
     vision = [timed(agent, "on_vision") for agent in match.agents.values()]
     # The robots' other inputs: the 3-D ball, what teammates share and the coach's commands.
@@ -221,7 +224,7 @@ def lockstep_case(tracker: str, d: Durations, cpu: int | None, listeners: Sequen
         # The machine's speed drifts between runs (up to 40 % here); this ratio of two times of one run does not.
         "agent_cycle_in_physics_steps": _r(agent_seconds / agent_calls / (physics.seconds / physics.calls))
         if agent_calls and physics.calls and physics.seconds > 0 else None,
-        "us_per_vision_frame_sensing": _us(sensing.seconds, sensing.calls),
+        "us_per_vision_frame_sensing": _us(sensing.seconds, sensing.calls * len(match.agents)),
         "us_per_vision_frame_world_model": _us(vision_seconds, vision_calls),
         "wall_share": {"agents": _r(agent_seconds / clock.wall, 3), "physics": _r(physics.seconds / clock.wall, 3),
                        "sensing": _r(sensing.seconds / clock.wall, 3),
@@ -432,14 +435,39 @@ def bench_env(steps: int, cpu: int | None) -> dict:
 
 
 # --- 4: memory ------------------------------------------------------------------------------------------------
+def _rss_mib() -> float:
+    with open("/proc/self/statm", encoding="ascii") as statm:
+        return int(statm.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
 def match_process_figures(half_seconds: float, halves: int) -> None:
-    """In a fresh process: print as JSON the peak RSS after the imports and after playing one match."""
+    """In a fresh process: print as JSON the peak RSS after the imports and after playing one match (and its report),
+    and the RSS every 5 s of wall time while it played, to show whether it grows with the match."""
+    import threading
+
     from nubot_match.evaluate import jobs_for, play_match
 
     imports_kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    samples: list[tuple[float, float]] = []
+    done = threading.Event()
+    start = time.perf_counter()
+
+    def sample() -> None:
+        while not done.wait(5.0):
+            samples.append((time.perf_counter() - start, _rss_mib()))
+
+    sampler = threading.Thread(target=sample, daemon=True)
+    sampler.start()
     result = play_match(jobs_for(str(HOME), str(AWAY), 1, half_seconds, halves)[0])
+    done.set()
+    sampler.join()
     peak_kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    playing = [(t, m) for t, m in samples if t <= result.wall_seconds]  # the match itself, before its report
+    after_minute = [m for t, m in playing if t >= 60.0]
     print(json.dumps({"rss_mib_after_imports": _r(imports_kib / 1024, 1), "rss_mib_peak": _r(peak_kib / 1024, 1),
+                      "rss_mib_playing_after_first_minute": [_r(min(after_minute), 1), _r(max(after_minute), 1)]
+                      if after_minute else None,
+                      "rss_mib_samples": [[_r(t, 0), _r(m, 1)] for t, m in samples],
                       "sim_seconds": result.sim_seconds, "wall_seconds": result.wall_seconds}))
 
 
@@ -588,7 +616,10 @@ def table(results: dict) -> str:
     if "env" in results:
         lines.append(f"env: {results['env']['steps_per_second']:.0f} steps/s")
     if "memory" in results:
-        lines.append(f"memory: peak RSS {results['memory']['rss_mib_peak']} MiB per match process")
+        memory = results["memory"]
+        lines.append(f"memory: peak RSS {memory['rss_mib_peak']} MiB per match process (target "
+                     f"{TARGET_MEMORY_MIB:.0f}); while playing, after the first minute: "
+                     f"{memory['rss_mib_playing_after_first_minute']} MiB")
     if "evaluate" in results:
         lines.append(f"evaluate: --jobs 2 / --jobs 1 = {results['evaluate']['speedup_jobs2_over_jobs1']} "
                      f"(target {TARGET_EVALUATE_SPEEDUP})")
