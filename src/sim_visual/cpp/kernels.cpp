@@ -107,6 +107,34 @@ PYBIND11_MODULE(_kernels, m) {
       "A robot's stuck detection one update on; state: has a last position, its x, y, the ground velocity's vx, "
       "vy, slow since (NaN: not slow), stuck.");
 
+  m.def(
+      "grip_holds",
+      [](double vx, double vy, double w, double forward, double backward, double sideways, double turn) {
+        sim_visual::HandlerParams p{};
+        p.hold_forward_speed = forward;
+        p.hold_backward_speed = backward;
+        p.hold_sideways_speed = sideways;
+        p.hold_turn_rate = turn;
+        return sim_visual::grip_holds(vx, vy, w, p);
+      },
+      py::arg("vx"), py::arg("vy"), py::arg("w"), py::arg("forward"), py::arg("backward"), py::arg("sideways"),
+      py::arg("turn"), "Whether the ball handler keeps the ball at the body velocity (vx ahead, vy left, w).");
+  m.def(
+      "dribble_condition",
+      [](double x, double y, double theta, double bx, double by, double bz, double ball_radius, double distance,
+         double half_angle) {
+        sim_visual::HandlerParams p{};
+        p.ball_radius = ball_radius;
+        p.dribble_distance = distance;
+        p.dribble_half_angle = half_angle;
+        return sim_visual::dribble_condition(x, y, theta, bx, by, bz, p);
+      },
+      py::arg("x"), py::arg("y"), py::arg("theta"), py::arg("bx"), py::arg("by"), py::arg("bz"), py::arg("ball_radius"),
+      py::arg("distance"), py::arg("half_angle"), "Whether a robot at (x, y, theta) can take the ball at (bx, by, bz).");
+  m.def("held_ball", &sim_visual::held_ball, py::arg("x"), py::arg("y"), py::arg("theta"), py::arg("vx"),
+        py::arg("vy"), py::arg("w"), py::arg("hold_distance"),
+        "Where the ball a robot at (x, y, theta) moving at (vx, vy, w) holds sits and how it moves: x, y, vx, vy.");
+
   py::class_<sim_visual::Surface>(m, "Surface", "Contact properties of a pair of kinds of geometry.")
       .def(py::init([](double mu, double bounce, int pair) { return sim_visual::Surface{true, mu, bounce, pair}; }),
            py::arg("mu"), py::arg("bounce"), py::arg("pair"));
@@ -181,6 +209,33 @@ PYBIND11_MODULE(_kernels, m) {
             p.drive(robot, finite(vx, "vx"), finite(vy, "vy"), finite(w, "w"), world_frame);
           },
           py::arg("robot"), py::arg("vx"), py::arg("vy"), py::arg("w"), py::arg("world_frame"))
+      .def(
+          "set_handler",
+          [](Physics& p, double dribble_distance, double dribble_half_angle, double hold_distance, double forward,
+             double backward, double sideways, double turn, double slip_time, double recapture_delay,
+             double ball_radius) {
+            p.set_handler({dribble_distance, dribble_half_angle, hold_distance, forward, backward, sideways, turn,
+                           slip_time, recapture_delay, ball_radius});
+          },
+          py::arg("dribble_distance"), py::arg("dribble_half_angle"), py::arg("hold_distance"), py::arg("forward"),
+          py::arg("backward"), py::arg("sideways"), py::arg("turn"), py::arg("slip_time"),
+          py::arg("recapture_delay"), py::arg("ball_radius"))
+      .def("grip_slips", &Physics::grip_slips, py::arg("holder"), py::arg("dt"), py::arg("time"))
+      .def("can_capture", &Physics::can_capture, py::arg("robot"), py::arg("time"))
+      .def("first_capture", &Physics::first_capture, py::arg("time"))
+      .def("carry_ball", &Physics::carry_ball, py::arg("holder"))
+      .def(
+          "set_dribbling", [](Physics& p, int robot, bool on) { p.base(robot).dribbling = on; }, py::arg("robot"),
+          py::arg("on"))
+      .def(
+          "dribbling", [](const Physics& p, int robot) { return p.base(robot).dribbling; }, py::arg("robot"))
+      .def(
+          "set_no_capture_until",
+          [](Physics& p, int robot, double time) { p.base(robot).no_capture_until = time; }, py::arg("robot"),
+          py::arg("time"))
+      .def(
+          "no_capture_until", [](const Physics& p, int robot) { return p.base(robot).no_capture_until; },
+          py::arg("robot"))
       .def("ball_state", &Physics::ball_state)
       .def(
           "set_ball_state",

@@ -1,6 +1,8 @@
 // The simulator's physics: see sim_visual/physics.hpp and sim_visual.world.
 #include "sim_visual/physics.hpp"
 
+#include "sim_visual/geometry.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -242,6 +244,63 @@ void Physics::drive(int robot, double vx, double vy, double w, bool world_frame)
     dBodySetLinearVel(body, c * vx - s * vy, s * vx + c * vy, 0.0);
   }
   dBodySetAngularVel(body, 0.0, 0.0, w);
+}
+
+bool grip_holds(double vx, double vy, double w, const HandlerParams& p) {
+  return -p.hold_backward_speed <= vx && vx <= p.hold_forward_speed && std::abs(vy) <= p.hold_sideways_speed &&
+         std::abs(w) <= p.hold_turn_rate;
+}
+
+bool dribble_condition(double x, double y, double theta, double bx, double by, double bz, const HandlerParams& p) {
+  if (bz > 2.0 * p.ball_radius) return false;
+  if (std::hypot(bx - x, by - y) > p.dribble_distance) return false;
+  return std::abs(wrap_angle(std::atan2(by - y, bx - x) - theta)) <= p.dribble_half_angle;
+}
+
+std::array<double, 4> held_ball(double x, double y, double theta, double vx, double vy, double w,
+                                double hold_distance) {
+  const auto at = rotate(hold_distance, 0.0, theta);
+  return {x + at[0], y + at[1], vx - w * at[1], vy + w * at[0]};
+}
+
+bool Physics::grip_slips(int holder, double dt, double time) {
+  Base& b = base(holder);
+  const auto body = rotate(b.drive[0], b.drive[1], -heading(holder));
+  if (grip_holds(body[0], body[1], b.drive[2], handler_)) {
+    b.slipping = false;
+    return false;
+  }
+  if (!b.slipping) {
+    b.slipping = true;
+    b.slipping_since = time;
+  }
+  if (time + dt - b.slipping_since < handler_.hold_slip_time - 1e-9) return false;
+  b.slipping = false;
+  b.no_capture_until = time + handler_.kick_recapture_delay;
+  return true;
+}
+
+bool Physics::can_capture(int robot, double time) const {
+  const Base& b = base(robot);
+  if (time < b.no_capture_until) return false;
+  const auto r = robot_state(robot);
+  const dReal* p = dBodyGetPosition(body_at(-1));
+  return dribble_condition(r[0], r[1], r[2], p[0], p[1], p[2], handler_);
+}
+
+int Physics::first_capture(double time) const {
+  for (std::size_t i = 0; i < robots_.size(); ++i) {
+    if (robots_[i].body != nullptr && robots_[i].base.dribbling && can_capture(static_cast<int>(i), time)) {
+      return static_cast<int>(i);
+    }
+  }
+  return -1;
+}
+
+void Physics::carry_ball(int holder) {
+  const auto r = robot_state(holder);
+  const auto held = held_ball(r[0], r[1], r[2], r[3], r[4], r[5], handler_.hold_distance);
+  set_ball_state({held[0], held[1], handler_.ball_radius, held[2], held[3], 0.0, 0.0, 0.0, 0.0});
 }
 
 Base& Physics::base(int robot) {

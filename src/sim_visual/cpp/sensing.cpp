@@ -2,6 +2,8 @@
 // nubot_common.geometry and TeamFrame operation by operation, so that a frame is the same to the last bit.
 #include "sim_visual/sensing.hpp"
 
+#include "sim_visual/geometry.hpp"
+
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -10,14 +12,6 @@
 namespace sim_visual {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-double wrap_angle(double angle) {
-  double wrapped = std::fmod(angle + kPi, 2.0 * kPi);
-  if (wrapped <= 0.0) wrapped += 2.0 * kPi;
-  return wrapped - kPi;
-}
-
 struct Pose {
   double x, y, theta;
 };
@@ -25,11 +19,6 @@ struct Pose {
 // A world point or vector in a team's frame: the field turned half round for a team attacking -x.
 std::array<double, 2> to_team(double x, double y, int attack) {
   return attack == 1 ? std::array<double, 2>{x, y} : std::array<double, 2>{-x, -y};
-}
-
-std::array<double, 2> rotate(double x, double y, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * x - s * y, s * x + c * y};
 }
 
 Pose truth_of(const RobotRow& me, int attack) {

@@ -8,7 +8,9 @@ traces stay in ``nubot_control/test/golden/`` (``mpc``, ``plan``, ``clear``, ``s
 unit tests hold the compiled pieces to them; so does the simulator's base model (``limit_drive``, now inside the
 compiled physics world's ``drive_robots``; ``sim_visual/test/golden/drive.npz``) and its stuck detection (also
 inside ``drive_robots``; ``stuck.npz``: every update over 20 s of seed 0 and 20 s of robots pushed into the goal, a
-wall and each other). What can still be recorded:
+wall and each other) and its ball handler (``grip_holds``, ``dribble_condition``, ``held_ball_position`` and
+``held_ball_velocity``, now under the physics world's ``grip_slips``, ``first_capture`` and ``carry_ball``;
+``ball_handler.npz``). What can still be recorded:
 
 ``python -m nubot_tools.golden follow --out FILE [--tracker baseline]`` records whole sequences of
 ``MotionController`` cycles: every ``follow`` (and ``reset``) of ``--trackers`` robots' motion layers in order, with

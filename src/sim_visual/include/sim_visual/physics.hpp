@@ -63,6 +63,27 @@ struct StuckParams {
 void update_stuck(StuckState& state, double command_vx, double command_vy, double x, double y, double dt, double time,
                   const StuckParams& params);
 
+// The ball handler (sim_visual.params.PluginParams): how near and how far off its front a robot takes the ball
+// (dribble_distance [m], dribble_half_angle [rad]), where a held ball sits (hold_distance [m] ahead), the body
+// velocities its grip keeps the ball at (forward, backward, sideways [m/s], turn rate [rad/s]), how long it may move
+// faster before the ball slips (hold_slip_time [s]), how long after losing it it cannot take it again
+// (kick_recapture_delay [s]), and the ball's radius [m].
+struct HandlerParams {
+  double dribble_distance, dribble_half_angle, hold_distance;
+  double hold_forward_speed, hold_backward_speed, hold_sideways_speed, hold_turn_rate;
+  double hold_slip_time, kick_recapture_delay, ball_radius;
+};
+
+// Whether the grip keeps the ball at body velocity (vx ahead, vy left [m/s], w [rad/s]) (sim_visual.rules.grip_holds).
+bool grip_holds(double vx, double vy, double w, const HandlerParams& params);
+// Whether a robot at pose (x, y, theta) can take the ball at (bx, by, bz): low, near and in front enough
+// (sim_visual.rules.dribble_condition).
+bool dribble_condition(double x, double y, double theta, double bx, double by, double bz, const HandlerParams& params);
+// Where the ball a robot at pose (x, y, theta) moving at (vx, vy [m/s] world frame, w [rad/s]) holds sits and how it
+// moves: x, y [m], vx, vy [m/s] (sim_visual.rules.held_ball_position, held_ball_velocity).
+std::array<double, 4> held_ball(double x, double y, double theta, double vx, double vy, double w,
+                                double hold_distance);
+
 // What a robot's base has been told and gives: the last velocity command (body frame) and when it came, what the base
 // gives now (world frame), whether its wheels drive it (their own model gives their dynamics: no base limits), and its
 // stuck detection.
@@ -72,6 +93,11 @@ struct Base {
   std::array<double, 3> drive{};
   bool by_wheels = false;
   StuckState stuck;
+  // The ball handler: on or off, when the robot may take the ball again, since when its grip has been slipping.
+  bool dribbling = false;
+  double no_capture_until = 0.0;
+  bool slipping = false;
+  double slipping_since = 0.0;
 };
 
 // How the bases step: commands older than timeout [s] (0: never) are a stop; the stuck detection runs every
@@ -119,6 +145,18 @@ class Physics {
   // reached within the limits from what the base gives now (unless its wheels drive it), then driven.
   void drive_robots(double dt, double time, long steps, const BaseParams& params);
 
+  // The ball handler's parameters, for the calls below.
+  void set_handler(const HandlerParams& params) { handler_ = params; }
+  // The holder one step of dt [s] on at time [s]: whether its grip lost the ball (it moved faster than the grip keeps
+  // it for the slip time): then it cannot take it again for the recapture delay.
+  bool grip_slips(int holder, double dt, double time);
+  // Whether the robot can take the ball now: its handler on, its recapture delay over, the ball in reach.
+  bool can_capture(int robot, double time) const;
+  // The first robot, by handle, that can take the ball now; -1: none.
+  int first_capture(double time) const;
+  // The ball where the holder holds it, moving with it, on the carpet.
+  void carry_ball(int holder);
+
   std::array<double, 9> ball_state() const;  // position, velocity, spin
   void set_ball_state(const std::array<double, 9>& state);
   bool ball_on_ground() const;
@@ -161,6 +199,7 @@ class Physics {
   std::array<std::array<Surface, kKinds>, kKinds> surfaces_{};
   std::array<std::array<long, kKinds>, kKinds> offered_{};
   int holder_ = -1;
+  HandlerParams handler_{};
   bool ball_in_net_ = false;
   std::vector<int> touched_;
 };

@@ -1,8 +1,9 @@
 """The model plugin's rules, as pure functions (chapter 5.2 and Table 3).
 
 Provides: ``clamp_command`` (body-frame velocity limits, NaN/inf rejected), ``limit_drive`` (the
-base's acceleration and braking), ``dribble_condition``, ``held_ball_position``, ``grip_holds``
-(whether the ball handler keeps the ball at a body velocity), ``ground_pass_velocity``, ``lob_velocity``
+base's acceleration and braking), ``dribble_condition``, ``held_ball_position``, ``held_ball_velocity``,
+``grip_holds`` (whether the ball handler keeps the ball at a body velocity; these five compiled, the physics world
+uses them every step), ``handler_params``, ``ground_pass_velocity``, ``lob_velocity``
 (its flight: ``nubot_common.ball_flight``) and ``spread_kick`` (a kick's scatter). Inputs and outputs are
 world-frame, SI units, unless a name says body.
 """
@@ -16,7 +17,7 @@ import numpy as np
 
 from nubot_common.commands import BodyVelocity
 from nubot_common.field import FieldGeometry
-from nubot_common.geometry import Pose2D, rotate
+from nubot_common.geometry import Pose2D
 from nubot_common.kernels import load_kernels
 from sim_visual import SimVisualError
 from sim_visual.params import PluginParams
@@ -60,9 +61,9 @@ def drive_limits(params: PluginParams) -> tuple[float, float, float]:
 
 def grip_holds(vx: float, vy: float, w: float, params: PluginParams) -> bool:
     """Whether the ball handler keeps the ball while the robot moves at body velocity (vx ahead, vy left [m/s],
-    w [rad/s])."""
-    return (-params.hold_backward_speed <= vx <= params.hold_forward_speed and abs(vy) <= params.hold_sideways_speed
-            and abs(w) <= params.hold_turn_rate)
+    w [rad/s]) (compiled: ``sim_visual/physics.hpp``, which checks the holder's grip every step with it)."""
+    return _kernels.grip_holds(vx, vy, w, params.hold_forward_speed, params.hold_backward_speed,
+                               params.hold_sideways_speed, params.hold_turn_rate)
 
 
 def spread_kick(velocity: tuple[float, float, float], params: PluginParams,
@@ -79,23 +80,29 @@ def spread_kick(velocity: tuple[float, float, float], params: PluginParams,
 
 def dribble_condition(robot: Pose2D, ball_x: float, ball_y: float, ball_z: float,
                       ball_radius: float, params: PluginParams) -> bool:
-    """True when the ball is near enough, low enough and in front enough to be held."""
-    if ball_z > 2.0 * ball_radius:
-        return False
-    if robot.distance_to(ball_x, ball_y) > params.dribble_distance:
-        return False
-    return abs(robot.bearing_to(ball_x, ball_y)) <= params.dribble_half_angle
+    """True when the ball is near enough (``dribble_distance``), low enough (its centre at most two radii up) and in
+    front enough (within ``dribble_half_angle`` of the robot's front) to be held (compiled, as ``grip_holds``)."""
+    return _kernels.dribble_condition(robot.x, robot.y, robot.theta, ball_x, ball_y, ball_z, ball_radius,
+                                      params.dribble_distance, params.dribble_half_angle)
 
 
 def held_ball_position(robot: Pose2D, params: PluginParams) -> tuple[float, float]:
-    """Where a held ball sits: ``hold_distance`` ahead of the robot centre (method (a))."""
-    return robot.to_world(params.hold_distance, 0.0)
+    """Where a held ball sits: ``hold_distance`` ahead of the robot centre (method (a); compiled, as ``grip_holds``)."""
+    x, y, _, _ = _kernels.held_ball(robot.x, robot.y, robot.theta, 0.0, 0.0, 0.0, params.hold_distance)
+    return x, y
 
 
 def held_ball_velocity(robot: Pose2D, vx: float, vy: float, w: float, params: PluginParams) -> tuple[float, float]:
-    """World velocity of the held ball: the robot's velocity at the holding point."""
-    ox, oy = rotate(params.hold_distance, 0.0, robot.theta)
-    return vx - w * oy, vy + w * ox
+    """World velocity of the held ball: the robot's velocity at the holding point (compiled, as ``grip_holds``)."""
+    _, _, bvx, bvy = _kernels.held_ball(robot.x, robot.y, robot.theta, vx, vy, w, params.hold_distance)
+    return bvx, bvy
+
+
+def handler_params(params: PluginParams, ball_radius: float) -> tuple[float, ...]:
+    """The ball handler's parameters as ``PhysicsWorld.set_ball_handler`` takes them."""
+    return (params.dribble_distance, params.dribble_half_angle, params.hold_distance, params.hold_forward_speed,
+            params.hold_backward_speed, params.hold_sideways_speed, params.hold_turn_rate, params.hold_slip_time,
+            params.kick_recapture_delay, ball_radius)
 
 
 def ground_pass_velocity(heading: float, strength: float, params: PluginParams) -> tuple[float, float, float]:

@@ -43,12 +43,9 @@ from sim_visual.params import (
 )
 from sim_visual.rules import (
     clamp_command,
-    dribble_condition,
     drive_limits,
-    grip_holds,
     ground_pass_velocity,
-    held_ball_position,
-    held_ball_velocity,
+    handler_params,
     lob_velocity,
     spread_kick,
 )
@@ -129,21 +126,18 @@ SimEvent = GoalScored | BallKicked | BallCaptured | BallReleased | BallTouched |
 
 @dataclass
 class RobotPlugin:
-    """Per-robot state of the model plugin; its base's (the command, what the base gives, the stuck detection) is
-    the physics world's (``PhysicsWorld.drive_robots``)."""
+    """Per-robot state of the model plugin; its base's (the command, what the base gives, the stuck detection) and
+    its ball handler's (on or off, the recapture delay, the grip slipping) are the physics world's
+    (``PhysicsWorld.drive_robots``, ``grip_slips``, ``first_capture``)."""
 
     spawn: RobotSpawn
     agent_id: int
-    dribble_enabled: bool = False
-    no_capture_until: float = 0.0
     kicked_at: float = -math.inf
-    slipping_since: float | None = None  # holding the ball outside the grip's limits since [s]
 
 
 class Simulator:
     def __init__(self, config: SimConfig):
         self.config = config
-        self.plugin_params: PluginParams = config.plugin
         self.noise: NoiseParams = config.noise
         self.rng = np.random.default_rng(config.seed)
         self.ball3d_rng = np.random.default_rng(np.random.SeedSequence([config.seed, BALL3D_STREAM]))
@@ -151,6 +145,7 @@ class Simulator:
         self.time = 0.0
         self.steps = 0
         self.world = PhysicsWorld(config.field, config.physics, config.robot, config.ball)
+        self.plugin_params = config.plugin
         self.plugins: dict[str, RobotPlugin] = {}
         self.holder: str | None = None
         self.last_touch = ""
@@ -162,6 +157,15 @@ class Simulator:
         self._place_ball_start()
 
     # --- models ---------------------------------------------------------------------
+    @property
+    def plugin_params(self) -> PluginParams:
+        return self._plugin_params
+
+    @plugin_params.setter
+    def plugin_params(self, params: PluginParams) -> None:
+        self._plugin_params = params
+        self.world.set_ball_handler(handler_params(params, self.config.ball.radius))
+
     @property
     def model_names(self) -> list[str]:
         return [*self.plugins, self.config.ball_name]
@@ -224,8 +228,10 @@ class Simulator:
             self.world.set_robot_state(name, RobotState(now.x, now.y, now.theta, 0.0, 0.0, 0.0))
             start = turn.pose_to_world(Pose2D(plugin.spawn.x, plugin.spawn.y, plugin.spawn.theta))
             spawn = replace(plugin.spawn, x=start.x, y=start.y, theta=start.theta, attack=-plugin.spawn.attack)
+            dribbling = self.world.dribbling(name)
             self.world.reset_base(name)
-            self.plugins[name] = RobotPlugin(spawn, plugin.agent_id, dribble_enabled=plugin.dribble_enabled)
+            self.world.set_dribbling(name, dribbling)
+            self.plugins[name] = RobotPlugin(spawn, plugin.agent_id)
         b = self.world.ball_state()
         bx, by = turn.point_to_world(b.x, b.y)
         self._put_ball(BallState(bx, by, max(b.z, self.config.ball.radius), 0.0, 0.0, 0.0))
@@ -306,9 +312,9 @@ class Simulator:
 
     def ball_handle(self, name: str, enable: int) -> bool:
         """Enable (non-zero) or disable dribbling; return whether the robot now holds the ball."""
-        plugin = self._plugin(name)
-        plugin.dribble_enabled = enable != 0
-        if not plugin.dribble_enabled:
+        self._plugin(name)
+        self.world.set_dribbling(name, enable != 0)
+        if enable == 0:
             if self.holder == name:
                 self._release()
             return False
@@ -333,8 +339,8 @@ class Simulator:
                                     self.config.ball.radius, self.config.physics.gravity, self.plugin_params)
         velocity = spread_kick(velocity, self.plugin_params, self.rng)
         self._release()
-        plugin.dribble_enabled = False
-        plugin.no_capture_until = self.time + self.plugin_params.kick_recapture_delay
+        self.world.set_dribbling(name, False)
+        self.world.set_no_capture_until(name, self.time + self.plugin_params.kick_recapture_delay)
         plugin.kicked_at = self.time
         vx, vy, vz = velocity
         r = self.config.ball.radius
@@ -453,12 +459,12 @@ class Simulator:
         if touched:
             self.last_touch = sorted(touched)[0] if self.last_touch not in touched else self.last_touch
         if self.holder is None:
-            for name, plugin in self.plugins.items():
-                if plugin.dribble_enabled and self._try_capture(name):
-                    events.append(BallCaptured(self.time, name))
-                    break
+            name = self.world.first_capture(self.time)
+            if name is not None:
+                self._capture(name)
+                events.append(BallCaptured(self.time, name))
         if self.holder is not None:
-            self._carry_ball(self.holder)
+            self.world.carry_ball(self.holder)
         if self.last_touch != self._reported_touch:  # also catches captures made by a BallHandle call
             self._reported_touch = self.last_touch
             if self.last_touch:
@@ -474,43 +480,23 @@ class Simulator:
     def _check_grip(self, name: str, dt: float) -> list[SimEvent]:
         """The holder moving faster than its ball handler can hold for ``hold_slip_time`` loses the ball: it rolls on
         with the velocity it had, and the robot cannot take it again for ``kick_recapture_delay``."""
-        plugin, p = self.plugins[name], self.plugin_params
-        vx, vy, w = self.world.base_drive(name)
-        heading = self.world.heading(name)
-        bx, by = rotate(vx, vy, -heading)
-        if grip_holds(bx, by, w, p):
-            plugin.slipping_since = None
+        if not self.world.grip_slips(name, dt, self.time):
             return []
-        if plugin.slipping_since is None:
-            plugin.slipping_since = self.time
-        if self.time + dt - plugin.slipping_since < p.hold_slip_time - 1e-9:
-            return []
-        plugin.slipping_since = None
         self._release()
-        plugin.no_capture_until = self.time + p.kick_recapture_delay
         return [BallReleased(self.time, name)]
 
     def _try_capture(self, name: str) -> bool:
         if self.holder is not None:
             return self.holder == name
-        plugin = self.plugins[name]
-        if self.time < plugin.no_capture_until:
+        if not self.world.can_capture(name, self.time):
             return False
-        robot, ball = self.world.robot_state(name), self.world.ball_state()
-        pose = Pose2D(robot.x, robot.y, robot.theta)
-        if not dribble_condition(pose, ball.x, ball.y, ball.z, self.config.ball.radius, self.plugin_params):
-            return False
-        self.holder = name
-        self.last_touch = name
-        self._carry_ball(name)
+        self._capture(name)
         return True
 
-    def _carry_ball(self, name: str) -> None:
-        robot = self.world.robot_state(name)
-        pose = Pose2D(robot.x, robot.y, robot.theta)
-        x, y = held_ball_position(pose, self.plugin_params)
-        vx, vy = held_ball_velocity(pose, robot.vx, robot.vy, robot.w, self.plugin_params)
-        self.world.set_ball_state(BallState(x, y, self.config.ball.radius, vx, vy, 0.0))
+    def _capture(self, name: str) -> None:
+        self.holder = name
+        self.last_touch = name
+        self.world.carry_ball(name)
 
     def _release(self) -> None:
         self.holder = None

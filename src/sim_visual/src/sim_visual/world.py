@@ -225,6 +225,42 @@ class PhysicsWorld:
         """Robot ``name``'s base as a new one: no command, at rest, not driven by wheels, not stuck."""
         self._core.reset_base(self._robot(name))
 
+    # --- the ball handler -------------------------------------------------------------
+    def set_ball_handler(self, params: tuple[float, ...]) -> None:
+        """The ball handler's parameters (``rules.handler_params``) for the calls below."""
+        self._core.set_handler(*params)
+
+    def set_dribbling(self, name: str, on: bool) -> None:
+        self._core.set_dribbling(self._robot(name), on)
+
+    def dribbling(self, name: str) -> bool:
+        return self._core.dribbling(self._robot(name))
+
+    def set_no_capture_until(self, name: str, time: float) -> None:
+        """Robot ``name`` cannot take the ball before ``time`` [s] (after a kick or a slip)."""
+        self._core.set_no_capture_until(self._robot(name), time)
+
+    def grip_slips(self, holder: str, dt: float, time: float) -> bool:
+        """The holder one step of ``dt`` [s] on at ``time`` [s]: whether its grip lost the ball (its base moved
+        faster than ``rules.grip_holds`` keeps it for ``hold_slip_time``); then it cannot take the ball again for
+        ``kick_recapture_delay``."""
+        return self._core.grip_slips(self._robot(holder), dt, time)
+
+    def can_capture(self, name: str, time: float) -> bool:
+        """Whether robot ``name`` can take the ball now: its recapture delay over, the ball in reach
+        (``rules.dribble_condition``)."""
+        return self._core.can_capture(self._robot(name), time)
+
+    def first_capture(self, time: float) -> str | None:
+        """The first robot (in the order they were added) whose ball handler is on and can take the ball now."""
+        handle = self._core.first_capture(time)
+        return None if handle < 0 else self._names[handle]
+
+    def carry_ball(self, holder: str) -> None:
+        """The ball where ``holder`` holds it (``rules.held_ball_position``), moving with it, on the carpet."""
+        self._ball_state = None
+        self._core.carry_ball(self._robot(holder))
+
     def drive_robots(self, dt: float, time: float, steps: int, timeout: float, limits: tuple[float, float, float],
                      stuck: tuple[int, float, float, float]) -> None:
         """Every robot's base one step of ``dt`` [s] on at ``time`` [s] (``steps`` steps made before), in one

@@ -92,7 +92,7 @@ def kick_spread(make_sim, kicks, **plugin):
     sim = make_sim(ball=(0.45, 0.0), plugin=PluginParams(**plugin))
     for _ in range(kicks):
         sim.set_model_state(sim.config.ball_name, BallState(0.45, 0.0, 0.11, 0.0, 0.0, 0.0))
-        sim.plugins["nubot1"].no_capture_until = 0.0
+        sim.world.set_no_capture_until("nubot1", 0.0)
         assert sim.ball_handle("nubot1", 1)
         _, kick = sim.shoot("nubot1", 8, -1)
         directions.append(math.degrees(math.atan2(kick.velocity[1], kick.velocity[0])))
