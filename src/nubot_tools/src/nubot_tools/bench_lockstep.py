@@ -91,7 +91,7 @@ class Durations:
 
 TARGET_MEMORY_MIB = 150.0  # one full match's process, its report included
 
-FULL = Durations(5.0, 60.0, 30_000, 60_000, 2_000, 900.0, 2, 4, 15.0, 2)  # memory: a full 2 x 15 min
+FULL = Durations(5.0, 60.0, 30_000, 60_000, 2_000, 900.0, 2, 8, 15.0, 2)  # memory: a full 2 x 15 min
 QUICK = Durations(2.0, 10.0, 3_000, 10_000, 200, 5.0, 1, 2, 5.0, 1)
 
 
