@@ -115,6 +115,7 @@ PYBIND11_MODULE(_kernels, m) {
         p.hold_backward_speed = backward;
         p.hold_sideways_speed = sideways;
         p.hold_turn_rate = turn;
+        finite(std::array<double, 3>{vx, vy, w}, "a body velocity");
         return sim_visual::grip_holds(vx, vy, w, p);
       },
       py::arg("vx"), py::arg("vy"), py::arg("w"), py::arg("forward"), py::arg("backward"), py::arg("sideways"),
@@ -127,12 +128,20 @@ PYBIND11_MODULE(_kernels, m) {
         p.ball_radius = ball_radius;
         p.dribble_distance = distance;
         p.dribble_half_angle = half_angle;
+        finite(std::array<double, 3>{x, y, theta}, "a robot's pose");
+        finite(std::array<double, 3>{bx, by, bz}, "the ball's position");
         return sim_visual::dribble_condition(x, y, theta, bx, by, bz, p);
       },
       py::arg("x"), py::arg("y"), py::arg("theta"), py::arg("bx"), py::arg("by"), py::arg("bz"), py::arg("ball_radius"),
       py::arg("distance"), py::arg("half_angle"), "Whether a robot at (x, y, theta) can take the ball at (bx, by, bz).");
-  m.def("held_ball", &sim_visual::held_ball, py::arg("x"), py::arg("y"), py::arg("theta"), py::arg("vx"),
-        py::arg("vy"), py::arg("w"), py::arg("hold_distance"),
+  m.def(
+      "held_ball",
+      [](double x, double y, double theta, double vx, double vy, double w, double hold_distance) {
+        finite(std::array<double, 6>{x, y, theta, vx, vy, w}, "a robot's state");
+        return sim_visual::held_ball(x, y, theta, vx, vy, w, hold_distance);
+      },
+      py::arg("x"), py::arg("y"), py::arg("theta"), py::arg("vx"), py::arg("vy"), py::arg("w"),
+      py::arg("hold_distance"),
         "Where the ball a robot at (x, y, theta) moving at (vx, vy, w) holds sits and how it moves: x, y, vx, vy.");
 
   py::class_<sim_visual::Surface>(m, "Surface", "Contact properties of a pair of kinds of geometry.")

@@ -60,3 +60,21 @@ def test_the_held_ball_sits_and_moves_as_recorded(trace):
     for x, y, theta, vx, vy, w, _hold, hx, hy, hvx, hvy in rows[rows[:, 6] == params.hold_distance][::5]:
         assert held_ball_position(Pose2D(x, y, theta), params) == (hx, hy)
         assert held_ball_velocity(Pose2D(x, y, theta), vx, vy, w, params) == (hvx, hvy)
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), float("-inf")])
+def test_values_that_are_not_numbers_are_refused_by_name(bad):
+    # The Python rules answered False for a NaN and raised "math domain error" for an infinite heading.
+    params = PluginParams()
+    for k in range(3):
+        velocity = [0.5, 0.0, 0.0]
+        velocity[k] = bad
+        with pytest.raises(ValueError, match="body velocity must be finite"):
+            grip_holds(*velocity, params)
+    for k in range(6):
+        values = [0.0, 0.0, 0.0, 0.3, 0.0, 0.11]
+        values[k] = bad
+        with pytest.raises(ValueError, match="(pose|position) must be finite"):
+            dribble_condition(Pose2D(*values[:3]), *values[3:], 0.11, params)
+    with pytest.raises(ValueError, match="state must be finite"):
+        held_ball_velocity(Pose2D(0.0, 0.0, 0.0), bad, 0.0, 0.0, params)
