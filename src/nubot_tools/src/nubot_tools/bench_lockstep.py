@@ -89,6 +89,7 @@ class Durations:
     evaluate_halves: int
 
 
+TARGET_PHYSICS_OVER_ODE = 1.3  # the simulator's step inside a match against the physics world's own step
 TARGET_MEMORY_MIB = 150.0  # one full match's process, its report included
 
 FULL = Durations(5.0, 60.0, 30_000, 60_000, 2_000, 900.0, 2, 8, 15.0, 2)  # memory: a full 2 x 15 min
@@ -221,6 +222,8 @@ def lockstep_case(tracker: str, d: Durations, cpu: int | None, listeners: Sequen
         "physics_steps": physics.calls, "physics_steps_per_second": _r(physics.calls / clock.wall, 1),
         "us_per_physics_step": _us(physics.seconds, physics.calls),
         "us_per_physics_step_ode": _us(ode_part.seconds, ode_part.calls),
+        "physics_step_over_ode_part": _r(physics.seconds / ode_part.seconds) if ode_part.seconds > 0 else None,
+        "target_physics_step_over_ode_part": TARGET_PHYSICS_OVER_ODE,
         # The machine's speed drifts between runs (up to 40 % here); this ratio of two times of one run does not.
         "agent_cycle_in_physics_steps": _r(agent_seconds / agent_calls / (physics.seconds / physics.calls))
         if agent_calls and physics.calls and physics.seconds > 0 else None,
@@ -604,6 +607,8 @@ def table(results: dict) -> str:
                      f"{case['us_per_agent_cycle']} us/agent cycle, {case['us_per_physics_step']} us/physics step "
                      f"(an agent cycle costs {case['agent_cycle_in_physics_steps']} physics steps), "
                      f"cpu share {case['cpu_share']}")
+        lines.append(f"  a physics step is {case['physics_step_over_ode_part']} x its ODE part "
+                     f"({case['us_per_physics_step_ode']} us; target {TARGET_PHYSICS_OVER_ODE})")
         lines.append(f"  with robots that cost nothing {case['sim_seconds_per_wall_second_without_agents']}x; at "
                      f"{TARGET_REAL_TIME_FACTOR:.0f}x the rest leaves {case['us_per_agent_cycle_budget_at_target']} "
                      f"us per agent cycle")
