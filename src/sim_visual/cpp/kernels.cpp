@@ -246,6 +246,7 @@ PYBIND11_MODULE(_kernels, m) {
           "no_capture_until", [](const Physics& p, int robot) { return p.base(robot).no_capture_until; },
           py::arg("robot"))
       .def("ball_state", &Physics::ball_state)
+      .def("ball_x", [](const Physics& p) { return p.ball_state()[0]; })
       .def(
           "set_ball_state",
           [](Physics& p, const std::array<double, 9>& s) { p.set_ball_state(finite(s, "a ball state")); },
@@ -253,6 +254,21 @@ PYBIND11_MODULE(_kernels, m) {
       .def("ball_on_ground", &Physics::ball_on_ground)
       .def("set_ball_holder", &Physics::set_ball_holder, py::arg("robot"))
       .def("step", &Physics::step, py::arg("dt"))
+      .def("step_seconds", &Physics::step_seconds)
+      .def(
+          "advance",
+          [](Physics& p, double dt, double time, long steps, double timeout, int stuck_every, double min_command,
+             double filter_time, double stuck_time, double linear_accel, double linear_brake, double angular_accel,
+             int holder) {
+            const auto out = p.advance(finite(dt, "dt"), finite(time, "time"), steps,
+                                       {timeout, stuck_every, {min_command, filter_time, stuck_time},
+                                        {linear_accel, linear_brake, angular_accel}},
+                                       holder);
+            return py::make_tuple(out.touched, out.slipped, out.captured);
+          },
+          py::arg("dt"), py::arg("time"), py::arg("steps"), py::arg("timeout"), py::arg("stuck_every"),
+          py::arg("min_command"), py::arg("filter_time"), py::arg("stuck_time"), py::arg("linear_accel"),
+          py::arg("linear_brake"), py::arg("angular_accel"), py::arg("holder"))
       .def("body", &Physics::body, py::arg("robot"))
       .def(
           "set_body", [](Physics& p, int robot, const sim_visual::BodyRow& r) { p.set_body(robot, finite(r, "a body")); },

@@ -360,6 +360,7 @@ void Physics::set_ball_holder(int robot) {
 std::vector<int> Physics::step(double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt)) throw std::invalid_argument("a step must last a positive time");
   body_at(-1);
+  const auto start = std::chrono::steady_clock::now();
   touched_.clear();
   ball_in_net_ = false;
   dSpaceCollide(space_, this, &Physics::near_callback);
@@ -367,7 +368,26 @@ std::vector<int> Physics::step(double dt) {
   dJointGroupEmpty(contacts_);
   if (ball_in_net_) absorb_in_net();
   apply_rolling_resistance(dt);
+  step_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return touched_;
+}
+
+Physics::Advance Physics::advance(double dt, double time, long steps, const BaseParams& base, int holder) {
+  if (holder >= 0) robot_at(holder);
+  Advance out;
+  drive_robots(dt, time, steps, base);
+  if (holder >= 0 && grip_slips(holder, dt, time)) {
+    out.slipped = true;
+    holder = -1;
+  }
+  set_ball_holder(holder);
+  out.touched = step(dt);
+  if (holder < 0) {
+    out.captured = first_capture(static_cast<double>(steps + 1) * dt);  // the time after the step
+    holder = out.captured;
+  }
+  if (holder >= 0) carry_ball(holder);
+  return out;
 }
 
 void Physics::near_callback(void* data, dGeomID a, dGeomID b) { static_cast<Physics*>(data)->near(a, b); }

@@ -7,6 +7,7 @@
 #include <ode/ode.h>
 
 #include <array>
+#include <chrono>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -164,6 +165,21 @@ class Physics {
 
   // One step of dt [s]: the robots that touched the ball, by handle, in the order their contacts were found.
   std::vector<int> step(double dt);
+  // The wall time [s] spent in step since the world was made: ODE's own part of the simulator's work.
+  double step_seconds() const { return step_seconds_; }
+
+  // What one step of the simulator did to the ball: the robots that touched it (step), whether the holder's grip
+  // lost it before the step, the robot that took it after the step (-1: none).
+  struct Advance {
+    std::vector<int> touched;
+    bool slipped = false;
+    int captured = -1;
+  };
+  // One step of the simulator's world, steps steps after the start, at time [s] (= steps * dt): every base driven
+  // (drive_robots), the holder's grip checked (grip_slips; the ball let go when it slips), the ball's contacts with
+  // the holder ignored, the step, then, with no holder, the first robot that can take the ball takes it, and the
+  // holder carries it (carry_ball). holder: the robot holding the ball before the step, -1 none.
+  Advance advance(double dt, double time, long steps, const BaseParams& base, int holder);
 
   BodyRow body(int robot) const;  // -1: the ball
   void set_body(int robot, const BodyRow& row);
@@ -200,6 +216,7 @@ class Physics {
   std::array<std::array<long, kKinds>, kKinds> offered_{};
   int holder_ = -1;
   HandlerParams handler_{};
+  double step_seconds_ = 0.0;
   bool ball_in_net_ = false;
   std::vector<int> touched_;
 };

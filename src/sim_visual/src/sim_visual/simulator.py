@@ -165,6 +165,9 @@ class Simulator:
     def plugin_params(self, params: PluginParams) -> None:
         self._plugin_params = params
         self.world.set_ball_handler(handler_params(params, self.config.ball.radius))
+        # What stepping the bases takes (PhysicsWorld.advance): the command timeout, the limits, the stuck detection.
+        self._drive = (params.command_timeout, drive_limits(params),
+                       (_STUCK_EVERY, _STUCK_MIN_COMMAND, _STUCK_FILTER_TIME, params.stuck_time))
 
     @property
     def model_names(self) -> list[str]:
@@ -447,24 +450,19 @@ class Simulator:
         """Advance one physics step and return what happened in it."""
         dt = self.config.physics.step_size
         events: list[SimEvent] = []
-        self.world.drive_robots(dt, self.time, self.steps, self.plugin_params.command_timeout,
-                                drive_limits(self.plugin_params),
-                                (_STUCK_EVERY, _STUCK_MIN_COMMAND, _STUCK_FILTER_TIME, self.plugin_params.stuck_time))
-        if self.holder is not None:
-            events += self._check_grip(self.holder, dt)
-        self.world.set_ball_collides_with(self.holder)
-        touched = self.world.step(dt)
+        # The bases, the holder's grip, the step, a capture and the carried ball: one compiled call.
+        touched, slipped, captured = self.world.advance(dt, self.time, self.steps, *self._drive, self.holder)
+        if slipped:  # it moved faster than its ball handler holds for hold_slip_time: the ball rolls on
+            assert self.holder is not None
+            events.append(BallReleased(self.time, self.holder))
+            self.holder = None
         self.time = (self.steps + 1) * dt
         self.steps += 1
         if touched:
             self.last_touch = sorted(touched)[0] if self.last_touch not in touched else self.last_touch
-        if self.holder is None:
-            name = self.world.first_capture(self.time)
-            if name is not None:
-                self._capture(name)
-                events.append(BallCaptured(self.time, name))
-        if self.holder is not None:
-            self.world.carry_ball(self.holder)
+        if captured is not None:
+            self.holder = self.last_touch = captured
+            events.append(BallCaptured(self.time, captured))
         if self.last_touch != self._reported_touch:  # also catches captures made by a BallHandle call
             self._reported_touch = self.last_touch
             if self.last_touch:
@@ -476,14 +474,6 @@ class Simulator:
         if goal is not None:
             events.append(goal)
         return events
-
-    def _check_grip(self, name: str, dt: float) -> list[SimEvent]:
-        """The holder moving faster than its ball handler can hold for ``hold_slip_time`` loses the ball: it rolls on
-        with the velocity it had, and the robot cannot take it again for ``kick_recapture_delay``."""
-        if not self.world.grip_slips(name, dt, self.time):
-            return []
-        self._release()
-        return [BallReleased(self.time, name)]
 
     def _try_capture(self, name: str) -> bool:
         if self.holder is not None:
@@ -505,10 +495,11 @@ class Simulator:
     def _detect_goal(self) -> GoalScored | None:
         """A goal: a ball that came from the field lies in a goal (``FieldGeometry.goal_holding``);
         counted once, until the ball is back in play."""
-        ball, field = self.world.ball_state(), self.config.field
-        if abs(ball.x) < field.half_length:
+        field = self.config.field
+        if abs(self.world.ball_x()) < field.half_length:  # most steps: no ball record made
             self._goal_open = True
             return None
+        ball = self.world.ball_state()
         side = field.goal_holding(ball.x, ball.y, ball.z, self.config.ball.radius)
         if not side or not self._goal_open:
             return None

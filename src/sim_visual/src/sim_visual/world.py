@@ -284,6 +284,11 @@ class PhysicsWorld:
         self._core.set_ball_state((state.x, state.y, state.z, state.vx, state.vy, state.vz, state.wx, state.wy,
                                    state.wz))
 
+    def ball_x(self) -> float:
+        """The ball centre's x [m] (without making its whole state)."""
+        state = self._ball_state
+        return state.x if state is not None else self._core.ball_x()
+
     def ball_on_ground(self) -> bool:
         return self._core.ball_on_ground()
 
@@ -321,6 +326,26 @@ class PhysicsWorld:
         self._robot_states.clear()
         self._ball_state = None
         return {self._names[h] for h in self._core.step(dt)}
+
+    def advance(self, dt: float, time: float, steps: int, timeout: float, limits: tuple[float, float, float],
+                stuck: tuple[int, float, float, float], holder: str | None) -> tuple[set[str], bool, str | None]:
+        """One step of the simulator's world in one compiled call, ``steps`` steps after the start at ``time`` [s]:
+        ``drive_robots``, the holder's ``grip_slips`` (the ball let go when it slips), its ball contacts ignored,
+        ``step``, then with no holder the ``first_capture`` at the time after the step, and the holder's
+        ``carry_ball``. Returns the robots that touched the ball in the step, whether the holder's grip lost it, and
+        the robot that took it (None: none)."""
+        self._robot_states.clear()
+        self._ball_state = None
+        touched, slipped, captured = self._core.advance(dt, time, steps, timeout, *stuck, *limits,
+                                                        -1 if holder is None else self._robot(holder))
+        names = self._names
+        return {names[h] for h in touched}, slipped, None if captured < 0 else names[captured]
+
+    @property
+    def step_seconds(self) -> float:
+        """The wall time [s] ODE's own part of the steps took since the world was made (``step``, also inside
+        ``advance``)."""
+        return self._core.step_seconds()
 
     def _surface_table(self) -> dict[tuple[str, str], tuple[float, float, int]]:
         """By the kinds of two geometries (both orders): the friction coefficient and restitution of their

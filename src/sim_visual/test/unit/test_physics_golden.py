@@ -115,3 +115,53 @@ def test_driving_every_base_at_once_is_driving_each_within_its_limits():
         world.set_command("a", BodyVelocity(math.nan, 0.0, 0.0), 0.0)
     world.reset_base("a")
     assert world.command("a") == BodyVelocity() and world.base_drive("a") == (0.0, 0.0, 0.0)
+
+
+def _handling_world() -> PhysicsWorld:
+    """Two robots near the ball, their handlers on: one takes it and then turns faster than its grip holds."""
+    from sim_visual.rules import handler_params
+
+    world = PhysicsWorld(FieldGeometry(), PhysicsParams(), RobotBody(), BallBody())
+    world.add_robot("a", 0.0, 0.0, 0.0)
+    world.add_robot("b", 1.0, 1.0, math.pi)
+    world.set_ball_state(BallState(0.42, 0.0, 0.11, 0.0, 0.0, 0.0))
+    world.set_ball_handler(handler_params(PluginParams(), 0.11))
+    for name in ("a", "b"):
+        world.set_dribbling(name, True)
+    return world
+
+
+def test_advancing_the_world_is_its_parts_in_order():
+    """``advance``: the bases driven, the holder's grip checked (the ball let go when it slips), the step, a capture
+    after it and the carried ball, as the separate calls make them; bodies the same to the last bit."""
+    one, parts = _handling_world(), _handling_world()
+    params = PluginParams()
+    limits, stuck = drive_limits(params), (4, 0.3, 0.2, params.stuck_time)
+    holders: list[str | None] = [None, None]
+    seen = {"captured": 0, "slipped": 0}
+    dt = 0.005
+    for k in range(400):
+        time = k * dt
+        turn = 6.0 if 100 <= k < 200 else 0.5  # faster than the grip's 4 rad/s for 0.5 s: the ball slips
+        for world in (one, parts):
+            world.set_command("a", BodyVelocity(0.3, 0.0, turn), time)
+            world.set_command("b", BodyVelocity(0.5, 0.0, 0.0), time)
+        touched, slipped, captured = one.advance(dt, time, k, params.command_timeout, limits, stuck, holders[0])
+        holders[0] = None if slipped else holders[0]
+        holders[0] = captured if captured is not None else holders[0]
+        parts.drive_robots(dt, time, k, params.command_timeout, limits, stuck)
+        slipped_parts = holders[1] is not None and parts.grip_slips(holders[1], dt, time)
+        holder = None if slipped_parts else holders[1]
+        parts.set_ball_collides_with(holder)
+        touched_parts = parts.step(dt)
+        captured_parts = parts.first_capture((k + 1) * dt) if holder is None else None
+        holder = captured_parts if holder is None else holder
+        if holder is not None:
+            parts.carry_ball(holder)
+        holders[1] = holder
+        assert (touched, slipped, captured) == (touched_parts, slipped_parts, captured_parts), k
+        assert one.bodies() == parts.bodies(), k
+        seen["captured"] += captured is not None
+        seen["slipped"] += slipped
+    assert seen["captured"] >= 1 and seen["slipped"] >= 1, seen
+    assert one.step_seconds > 0.0
