@@ -242,9 +242,6 @@ PYBIND11_MODULE(_kernels, m) {
           "set_no_capture_until",
           [](Physics& p, int robot, double time) { p.base(robot).no_capture_until = time; }, py::arg("robot"),
           py::arg("time"))
-      .def(
-          "no_capture_until", [](const Physics& p, int robot) { return p.base(robot).no_capture_until; },
-          py::arg("robot"))
       .def("ball_state", &Physics::ball_state)
       .def("ball_x", [](const Physics& p) { return p.ball_state()[0]; })
       .def(

@@ -321,9 +321,8 @@ void Physics::drive_robots(double dt, double time, long steps, const BaseParams&
       const dReal* p = dBodyGetPosition(r.body);
       update_stuck(b.stuck, command[0], command[1], p[0], p[1], params.stuck_every * dt, time, params.stuck);
     }
-    const double yaw = yaw_of(dBodyGetQuaternion(r.body));
-    const double c = std::cos(yaw), s = std::sin(yaw);
-    const std::array<double, 3> wanted = {c * command[0] - s * command[1], s * command[0] + c * command[1], command[2]};
+    const auto turned = rotate(command[0], command[1], yaw_of(dBodyGetQuaternion(r.body)));
+    const std::array<double, 3> wanted = {turned[0], turned[1], command[2]};
     b.drive = b.by_wheels ? wanted : limit_drive(b.drive, wanted, dt, params.limits);
     drive(static_cast<int>(i), b.drive[0], b.drive[1], b.drive[2], true);
   }

@@ -440,8 +440,9 @@ def bench_env(steps: int, cpu: int | None) -> dict:
 
 # --- 4: memory ------------------------------------------------------------------------------------------------
 def _rss_mib() -> float:
-    with open("/proc/self/statm", encoding="ascii") as statm:
-        return int(statm.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+    import psutil
+
+    return psutil.Process().memory_info().rss / 2**20
 
 
 def match_process_figures(half_seconds: float, halves: int) -> None:

@@ -451,10 +451,10 @@ class Simulator:
         dt = self.config.physics.step_size
         events: list[SimEvent] = []
         # The bases, the holder's grip, the step, a capture and the carried ball: one compiled call.
-        touched, slipped, captured = self.world.advance(dt, self.time, self.steps, *self._drive, self.holder)
-        if slipped:  # it moved faster than its ball handler holds for hold_slip_time: the ball rolls on
-            assert self.holder is not None
-            events.append(BallReleased(self.time, self.holder))
+        holder = self.holder
+        touched, slipped, captured = self.world.advance(dt, self.time, self.steps, *self._drive, holder)
+        if slipped and holder is not None:  # it moved faster than its handler holds for hold_slip_time: it rolls on
+            events.append(BallReleased(self.time, holder))
             self.holder = None
         self.time = (self.steps + 1) * dt
         self.steps += 1
