@@ -382,3 +382,21 @@ def test_a_kick_aimed_at_a_teammate_is_a_pass_and_one_at_nobody_a_clearance():
     assert [(k.clearance, k.pass_outcome != "") for k in summary.kicks] == [(False, True), (True, False), (True, False)]
     assert summary.to_json()["clearances"] == {"nubot": 2}
     assert ma.aimed_at_teammate(at_mate, {}, 0.78) is None, "no track: a pass as before"
+
+
+def test_resampling_reads_only_the_piece_around_its_times_and_gets_what_the_whole_track_gives():
+    rng = np.random.default_rng(5)
+    t = np.cumsum(rng.uniform(0.005, 0.02, 5000))
+    track = ma.Track("nubot1", t, rng.normal(size=(5000, 2)))
+    for times in (np.sort(rng.uniform(t[100], t[300], 50)), rng.uniform(t[0] - 1, t[-1] + 1, 50),  # unsorted
+                  t[1000:1200].copy(), np.array([t[0]]), np.array([t[-1]]), np.array([t[42], t[42]])):
+        whole = np.full((len(times), 2), np.nan)
+        covered = (times >= t[0]) & (times <= t[-1])
+        for axis in (0, 1):
+            whole[covered, axis] = np.interp(times[covered], t, track.xy[:, axis])
+        np.testing.assert_array_equal(ma.resample([track], times)[:, 0], whole)
+    piece = track.around(t[1000] + 1e-4, t[1199] - 1e-4)
+    assert piece.t[0] == t[1000] and piece.t[-1] == t[1199] and len(piece.t) == 200
+    assert len(track.around(t[1000], t[1199]).t) == 200  # a time on a sample needs no neighbour
+    assert len(track.around(t[-1] + 5, t[-1] + 6).t) == 1 and len(track.around(t[0] - 6, t[0] - 5).t) == 1
+    assert ma.resample([track], np.zeros(0)).shape == (0, 1, 2)

@@ -592,8 +592,9 @@ def aimed_at_teammate(kick: Kick, tracks: dict[str, Track], decel: float) -> boo
     ux, uy = vx / speed, vy / speed
     reach = speed * speed / (2.0 * decel) + PASS_AIM if decel > 0.0 else math.inf
     for track in mates:
-        x = float(np.interp(kick.t, track.t, track.xy[:, 0])) - kick.ball_xy[0]
-        y = float(np.interp(kick.t, track.t, track.xy[:, 1])) - kick.ball_xy[1]
+        near = track.around(kick.t, kick.t)
+        x = float(np.interp(kick.t, near.t, near.xy[:, 0])) - kick.ball_xy[0]
+        y = float(np.interp(kick.t, near.t, near.xy[:, 1])) - kick.ball_xy[1]
         if 0.0 < x * ux + y * uy < reach and abs(x * uy - y * ux) < PASS_AIM:
             return True
     return False
@@ -638,6 +639,7 @@ def distance_run(track: Track, teleport_step: float = 1.0) -> float:
     for start in range(0, len(track.xy) - 1, _STEPS_CHUNK):  # a piece at a time: a whole track's steps take MiBs
         steps = np.hypot(*np.diff(track.xy[start:start + _STEPS_CHUNK + 1], axis=0).T)
         total += float(steps[steps <= teleport_step].sum())
+    track.let_go()
     return total
 
 
@@ -650,14 +652,20 @@ _CHUNK = 2048  # samples compared at a time: the pairwise arrays of a whole matc
 
 def resample(tracks: Sequence[Track], t: np.ndarray) -> np.ndarray:
     """Return the positions (len(t), len(tracks), 2) [m] interpolated at times t; NaN where a track does not
-    cover the time (before its first or after its last sample)."""
+    cover the time (before its first or after its last sample). Only the piece of each track around t is read, and
+    its memory given back (``Track.let_go``): a pass over a whole match in pieces of t keeps one piece in memory."""
     xy = np.full((len(t), len(tracks), 2), np.nan)
+    if len(t) == 0:
+        return xy
+    first, last = float(t.min()), float(t.max())
     for k, track in enumerate(tracks):
         if len(track.t) == 0:
             continue
         covered = (t >= track.t[0]) & (t <= track.t[-1])
+        near = track.around(first, last)
         for axis in (0, 1):
-            xy[covered, k, axis] = np.interp(t[covered], track.t, track.xy[:, axis])
+            xy[covered, k, axis] = np.interp(t[covered], near.t, near.xy[:, axis])
+        track.let_go()
     return xy
 
 
@@ -725,6 +733,7 @@ def ball_reaches(tracks: dict[str, Track], intervals: Sequence[tuple[float, floa
     if ball is None or len(ball.t) == 0 or not robots or not intervals:
         return [], 0
     nearest, nearest_distance = nearest_robot([tracks[r] for r in robots], ball.t, ball.xy)
+    ball.let_go()
     interval = interval_index(ball.t, intervals)
     running = interval >= 0
     free = np.flatnonzero(running & np.isfinite(nearest_distance) & (nearest_distance > free_distance))
@@ -826,4 +835,6 @@ def ball_time_in_play(ball: Track | None, intervals: Sequence[tuple[float, float
         return BallTime(np.zeros((0, 2)), np.zeros(0))
     seconds = time_in_intervals(ball.t, ball.t + sample_durations(ball.t), intervals)
     keep = seconds > 0.0
-    return BallTime(ball.xy[keep], seconds[keep])
+    in_play = BallTime(ball.xy[keep], seconds[keep])
+    ball.let_go()
+    return in_play

@@ -9,6 +9,7 @@ builds them from a bag, ``nubot_match.record`` from a lockstep match; ``match_an
 from __future__ import annotations
 
 import math
+import mmap
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -23,6 +24,26 @@ class Track:
     name: str
     t: np.ndarray
     xy: np.ndarray
+
+    def around(self, first: float, last: float) -> Track:
+        """The samples from the last at or before ``first`` to the first at or after ``last`` (views, no copy):
+        interpolating between ``first`` and ``last`` on them gives what it gives on the whole track, while only
+        that piece of a long track is read."""
+        lo = max(int(np.searchsorted(self.t, first, side="right")) - 1, 0)
+        hi = int(np.searchsorted(self.t, last, side="left")) + 1
+        return Track(self.name, self.t[lo:hi], self.xy[lo:hi])
+
+    def let_go(self) -> None:
+        """Give back the memory of the pages read so far when the positions map a file (a lockstep recorder's
+        track): they are read again from the file when next used. A pass over a whole match calls this as it goes,
+        so that its tracks are never all in memory at once."""
+        base = self.xy
+        while isinstance(base, np.ndarray):
+            base = base.base
+        if isinstance(base, memoryview):
+            base = base.obj
+        if isinstance(base, mmap.mmap):
+            base.madvise(mmap.MADV_DONTNEED)
 
 
 @dataclass(frozen=True)
