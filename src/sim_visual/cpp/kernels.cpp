@@ -253,19 +253,28 @@ PYBIND11_MODULE(_kernels, m) {
       .def("step", &Physics::step, py::arg("dt"))
       .def("step_seconds", &Physics::step_seconds)
       .def(
+          "set_base_params",
+          [](Physics& p, double timeout, int stuck_every, double min_command, double filter_time, double stuck_time,
+             double linear_accel, double linear_brake, double angular_accel) {
+            const auto stuck = finite(std::array<double, 3>{min_command, filter_time, stuck_time}, "stuck detection");
+            const auto limits = finite(std::array<double, 3>{linear_accel, linear_brake, angular_accel}, "drive limits");
+            p.set_base_params({finite(timeout, "timeout"), stuck_every, {stuck[0], stuck[1], stuck[2]},
+                               {limits[0], limits[1], limits[2]}});
+          },
+          py::arg("timeout"), py::arg("stuck_every"), py::arg("min_command"), py::arg("filter_time"),
+          py::arg("stuck_time"), py::arg("linear_accel"), py::arg("linear_brake"), py::arg("angular_accel"))
+      .def("set_goal_line", &Physics::set_goal_line, py::arg("x"))
+      .def(
           "advance",
-          [](Physics& p, double dt, double time, long steps, double timeout, int stuck_every, double min_command,
-             double filter_time, double stuck_time, double linear_accel, double linear_brake, double angular_accel,
-             int holder) {
-            const auto out = p.advance(finite(dt, "dt"), finite(time, "time"), steps,
-                                       {timeout, stuck_every, {min_command, filter_time, stuck_time},
-                                        {linear_accel, linear_brake, angular_accel}},
-                                       holder);
+          [](Physics& p, double dt, double time, long steps, int holder) -> py::object {
+            const auto out = p.advance(finite(dt, "dt"), finite(time, "time"), steps, holder);
+            // The usual step: nothing happened to the ball and no goal is possible; one object, no tuple to build.
+            if (out.touched.empty() && !out.slipped && out.captured < 0 && p.ball_short_of_goal_lines()) {
+              return py::none();
+            }
             return py::make_tuple(out.touched, out.slipped, out.captured);
           },
-          py::arg("dt"), py::arg("time"), py::arg("steps"), py::arg("timeout"), py::arg("stuck_every"),
-          py::arg("min_command"), py::arg("filter_time"), py::arg("stuck_time"), py::arg("linear_accel"),
-          py::arg("linear_brake"), py::arg("angular_accel"), py::arg("holder"))
+          py::arg("dt"), py::arg("time"), py::arg("steps"), py::arg("holder"))
       .def("body", &Physics::body, py::arg("robot"))
       .def(
           "set_body", [](Physics& p, int robot, const sim_visual::BodyRow& r) { p.set_body(robot, finite(r, "a body")); },

@@ -371,10 +371,24 @@ std::vector<int> Physics::step(double dt) {
   return touched_;
 }
 
-Physics::Advance Physics::advance(double dt, double time, long steps, const BaseParams& base, int holder) {
+void Physics::set_base_params(const BaseParams& params) {
+  if (params.stuck_every < 1) throw std::invalid_argument("stuck_every must be at least 1");
+  base_params_ = params;
+  base_params_set_ = true;
+}
+
+void Physics::set_goal_line(double x) {
+  if (!(x > 0.0)) throw std::invalid_argument("the goal line must lie at a positive x");
+  goal_line_ = x;
+}
+
+bool Physics::ball_short_of_goal_lines() const { return std::abs(dBodyGetPosition(body_at(-1))[0]) < goal_line_; }
+
+Physics::Advance Physics::advance(double dt, double time, long steps, int holder) {
+  if (!base_params_set_) throw std::logic_error("advance needs the bases' parameters first (set_base_params)");
   if (holder >= 0) robot_at(holder);
   Advance out;
-  drive_robots(dt, time, steps, base);
+  drive_robots(dt, time, steps, base_params_);
   if (holder >= 0 && grip_slips(holder, dt, time)) {
     out.slipped = true;
     holder = -1;

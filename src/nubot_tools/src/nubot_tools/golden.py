@@ -315,10 +315,10 @@ def record_physics(seeds: list[int], seconds: float) -> dict[str, np.ndarray]:
         add("ball", self, -1, list(bodies[None]))
         return touched
 
-    def advance(self: Any, dt: float, time: float, steps: int, timeout: float, limits: Any, stuck: Any,
-                holder: str | None) -> tuple[set[str], bool, str | None]:
+    def advance(self: Any, dt: float, time: float, steps: int,
+                holder: str | None) -> tuple[set[str], bool, str | None] | None:
         # The compiled advance is these calls in this order (test_physics_golden): made one by one, recorded.
-        drive_robots(self, dt, time, steps, timeout, limits, stuck)
+        drive_robots(self, dt, time, steps, *self.drive_params)
         slipped = holder is not None and self.grip_slips(holder, dt, time)
         if slipped:
             holder = None
@@ -329,6 +329,8 @@ def record_physics(seeds: list[int], seconds: float) -> dict[str, np.ndarray]:
         if holder is not None:
             self.carry_ball(holder)
             add("set_ball", self, -1, list(self._core.ball_state()))
+        if not touched and not slipped and captured is None and abs(self.ball_x()) < self.field.half_length:
+            return None
         return touched, slipped, captured
 
     wrappers: dict[str, Callable[..., Any]] = {
@@ -517,6 +519,7 @@ def main(argv: list[str] | None = None) -> int:
         trace = record_sensing(seeds, args.seconds)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
+    args.out = args.out.with_name(args.out.name + ".npz") if args.out.suffix != ".npz" else args.out  # as numpy names it
     args.out.parent.mkdir(parents=True, exist_ok=True)
     np.savez_compressed(args.out, **trace)
     print(f"golden: {args.piece} trace written to {args.out} ({args.out.stat().st_size // 1024} KiB)", file=sys.stderr)

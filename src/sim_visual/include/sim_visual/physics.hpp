@@ -176,10 +176,16 @@ class Physics {
     int captured = -1;
   };
   // One step of the simulator's world, steps steps after the start, at time [s] (= steps * dt): every base driven
-  // (drive_robots), the holder's grip checked (grip_slips; the ball let go when it slips), the ball's contacts with
-  // the holder ignored, the step, then, with no holder, the first robot that can take the ball takes it, and the
-  // holder carries it (carry_ball). holder: the robot holding the ball before the step, -1 none.
-  Advance advance(double dt, double time, long steps, const BaseParams& base, int holder);
+  // (drive_robots, with set_base_params' parameters), the holder's grip checked (grip_slips; the ball let go when it
+  // slips), the ball's contacts with the holder ignored, the step, then, with no holder, the first robot that can take
+  // the ball takes it, and the holder carries it (carry_ball). holder: the robot holding the ball before the step, -1
+  // none.
+  Advance advance(double dt, double time, long steps, int holder);
+  // How advance drives the bases (until set: an error).
+  void set_base_params(const BaseParams& params);
+  // Whether the ball lies short of both goal lines (|x| < goal_line [m]; set_goal_line, by default everywhere).
+  bool ball_short_of_goal_lines() const;
+  void set_goal_line(double x);
 
   BodyRow body(int robot) const;  // -1: the ball
   void set_body(int robot, const BodyRow& row);
@@ -217,6 +223,9 @@ class Physics {
   int holder_ = -1;
   HandlerParams handler_{};
   double step_seconds_ = 0.0;
+  BaseParams base_params_{};
+  bool base_params_set_ = false;
+  double goal_line_ = std::numeric_limits<double>::infinity();
   bool ball_in_net_ = false;
   std::vector<int> touched_;
 };

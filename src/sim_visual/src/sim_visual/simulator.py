@@ -166,8 +166,8 @@ class Simulator:
         self._plugin_params = params
         self.world.set_ball_handler(handler_params(params, self.config.ball.radius))
         # What stepping the bases takes (PhysicsWorld.advance): the command timeout, the limits, the stuck detection.
-        self._drive = (params.command_timeout, drive_limits(params),
-                       (_STUCK_EVERY, _STUCK_MIN_COMMAND, _STUCK_FILTER_TIME, params.stuck_time))
+        self.world.set_drive_params(params.command_timeout, drive_limits(params),
+                                    (_STUCK_EVERY, _STUCK_MIN_COMMAND, _STUCK_FILTER_TIME, params.stuck_time))
 
     @property
     def model_names(self) -> list[str]:
@@ -449,15 +449,20 @@ class Simulator:
     def step(self) -> list[SimEvent]:
         """Advance one physics step and return what happened in it."""
         dt = self.config.physics.step_size
-        events: list[SimEvent] = []
         # The bases, the holder's grip, the step, a capture and the carried ball: one compiled call.
         holder = self.holder
-        touched, slipped, captured = self.world.advance(dt, self.time, self.steps, *self._drive, holder)
-        if slipped and holder is not None:  # it moved faster than its handler holds for hold_slip_time: it rolls on
-            events.append(BallReleased(self.time, holder))
-            self.holder = None
+        time = self.time
+        happened = self.world.advance(dt, time, self.steps, holder)
         self.time = (self.steps + 1) * dt
         self.steps += 1
+        if happened is None and self.last_touch == self._reported_touch and (holder or "") == self._reported_holder:
+            self._goal_open = True  # the ball is short of both goal lines: back in play
+            return []  # the usual step: nothing to report
+        events: list[SimEvent] = []
+        touched, slipped, captured = happened if happened is not None else ((), False, None)
+        if slipped and holder is not None:  # it moved faster than its handler holds for hold_slip_time: it rolls on
+            events.append(BallReleased(time, holder))
+            self.holder = None
         if touched:
             self.last_touch = sorted(touched)[0] if self.last_touch not in touched else self.last_touch
         if captured is not None:

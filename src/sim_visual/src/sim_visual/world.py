@@ -90,6 +90,8 @@ class PhysicsWorld:
         self._core = _kernels.Physics(physics.gravity, 0.2, 1e-5, _simulated_ball_mass(ball), ball.radius,
                                       ball.rolling_friction * -physics.gravity, ball.net_restitution,
                                       _BOUNCE_MIN_SPEED, _ON_GROUND_TOLERANCE)
+        self._core.set_goal_line(field.half_length)  # advance tells when the ball may lie in a goal
+        self.drive_params: tuple[float, tuple[float, float, float], tuple[int, float, float, float]] | None = None
         self._robots: dict[str, int] = {}  # name: the core's handle
         self._names: dict[int, str] = {}
         # States read since the last change, by robot name: a step, an observation of every robot and the
@@ -327,17 +329,26 @@ class PhysicsWorld:
         self._ball_state = None
         return {self._names[h] for h in self._core.step(dt)}
 
-    def advance(self, dt: float, time: float, steps: int, timeout: float, limits: tuple[float, float, float],
-                stuck: tuple[int, float, float, float], holder: str | None) -> tuple[set[str], bool, str | None]:
+    def set_drive_params(self, timeout: float, limits: tuple[float, float, float],
+                         stuck: tuple[int, float, float, float]) -> None:
+        """How ``advance`` drives the bases (``drive_robots``' ``timeout``, ``limits`` and ``stuck``)."""
+        self._core.set_base_params(timeout, *stuck, *limits)
+        self.drive_params = (timeout, limits, stuck)
+
+    def advance(self, dt: float, time: float, steps: int,
+                holder: str | None) -> tuple[set[str], bool, str | None] | None:
         """One step of the simulator's world in one compiled call, ``steps`` steps after the start at ``time`` [s]:
-        ``drive_robots``, the holder's ``grip_slips`` (the ball let go when it slips), its ball contacts ignored,
-        ``step``, then with no holder the ``first_capture`` at the time after the step, and the holder's
-        ``carry_ball``. Returns the robots that touched the ball in the step, whether the holder's grip lost it, and
-        the robot that took it (None: none)."""
+        ``drive_robots`` (with ``set_drive_params``' parameters), the holder's ``grip_slips`` (the ball let go when it
+        slips), its ball contacts ignored, ``step``, then with no holder the ``first_capture`` at the time after the
+        step, and the holder's ``carry_ball``. Returns the robots that touched the ball in the step, whether the
+        holder's grip lost it, and the robot that took it (None: none); or None alone when none did and the ball
+        lies short of both goal lines (|x| below the field's half length): the usual step."""
         self._robot_states.clear()
         self._ball_state = None
-        touched, slipped, captured = self._core.advance(dt, time, steps, timeout, *stuck, *limits,
-                                                        -1 if holder is None else self._robot(holder))
+        happened = self._core.advance(dt, time, steps, -1 if holder is None else self._robot(holder))
+        if happened is None:
+            return None
+        touched, slipped, captured = happened
         names = self._names
         return {names[h] for h in touched}, slipped, None if captured < 0 else names[captured]
 

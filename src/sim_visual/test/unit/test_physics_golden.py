@@ -137,8 +137,9 @@ def test_advancing_the_world_is_its_parts_in_order():
     one, parts = _handling_world(), _handling_world()
     params = PluginParams()
     limits, stuck = drive_limits(params), (4, 0.3, 0.2, params.stuck_time)
+    one.set_drive_params(params.command_timeout, limits, stuck)
     holders: list[str | None] = [None, None]
-    seen = {"captured": 0, "slipped": 0}
+    seen = {"captured": 0, "slipped": 0, "quiet": 0}
     dt = 0.005
     for k in range(400):
         time = k * dt
@@ -146,7 +147,9 @@ def test_advancing_the_world_is_its_parts_in_order():
         for world in (one, parts):
             world.set_command("a", BodyVelocity(0.3, 0.0, turn), time)
             world.set_command("b", BodyVelocity(0.5, 0.0, 0.0), time)
-        touched, slipped, captured = one.advance(dt, time, k, params.command_timeout, limits, stuck, holders[0])
+        happened = one.advance(dt, time, k, holders[0])
+        seen["quiet"] += happened is None
+        touched, slipped, captured = happened if happened is not None else (set(), False, None)
         holders[0] = None if slipped else holders[0]
         holders[0] = captured if captured is not None else holders[0]
         parts.drive_robots(dt, time, k, params.command_timeout, limits, stuck)
@@ -163,5 +166,28 @@ def test_advancing_the_world_is_its_parts_in_order():
         assert one.bodies() == parts.bodies(), k
         seen["captured"] += captured is not None
         seen["slipped"] += slipped
-    assert seen["captured"] >= 1 and seen["slipped"] >= 1, seen
+    assert seen["captured"] >= 1 and seen["slipped"] >= 1 and seen["quiet"] >= 1, seen
     assert one.step_seconds > 0.0
+
+
+def test_the_usual_step_says_nothing_and_a_ball_at_a_goal_line_always_speaks():
+    """``advance`` answers None alone when the ball was not touched, slipped or taken and lies short of both goal
+    lines; a ball on or past a goal line is always reported, so that the simulator looks for a goal."""
+    from sim_visual.rules import handler_params
+
+    world = PhysicsWorld(FieldGeometry(), PhysicsParams(), RobotBody(), BallBody())
+    with pytest.raises(RuntimeError, match="set_base_params"):
+        world.advance(0.005, 0.0, 0, None)
+    params = PluginParams()
+    world.set_drive_params(params.command_timeout, drive_limits(params), (4, 0.3, 0.2, params.stuck_time))
+    world.set_ball_handler(handler_params(params, 0.11))
+    world.add_robot("a", -3.0, 0.0, 0.0)
+    half = world.field.half_length
+    for x, quiet in ((0.0, True), (half - 0.2, True), (half + 0.05, False), (-half - 0.3, False)):
+        world.set_ball_state(BallState(x, 2.0, 0.11, 0.0, 0.0, 0.0))
+        assert (world.advance(0.005, 0.0, 0, None) is None) == quiet, x
+    assert world.advance(0.005, 0.005, 1, None) == (set(), False, None)  # still past its line
+    with pytest.raises(ValueError, match="finite"):
+        world.set_drive_params(math.nan, drive_limits(params), (4, 0.3, 0.2, params.stuck_time))
+    with pytest.raises(ValueError, match="stuck_every"):
+        world.set_drive_params(0.3, drive_limits(params), (0, 0.3, 0.2, params.stuck_time))
