@@ -25,3 +25,14 @@ def test_a_report_moved_on_is_the_report_built_anew_at_the_new_pose():
     assert report.moved_on(0.0) is report
     with pytest.raises(dataclasses.FrozenInstanceError):
         moved.vx = 0.0  # type: ignore[misc]
+
+
+def test_a_replaced_report_is_what_dataclasses_replace_makes():
+    report = RobotReport(3, Pose2D(1.0, -2.0, 0.5), vx=0.4, holding=True, target_nums=(1, 2, 3, 4))
+    changes = {"role": Role.ACTIVE, "role_time": 2.5, "target": (4.0, 1.0), "static_pass": 2}
+    made = report.replaced(**changes)
+    assert made == dataclasses.replace(report, **changes) and made is not report
+    assert hash(made) == hash(dataclasses.replace(report, **changes))
+    assert report.role == Role.NOROLE  # the original is left as it was
+    with pytest.raises(TypeError, match="no field colour"):
+        report.replaced(colour="red")

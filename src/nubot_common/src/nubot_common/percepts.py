@@ -82,12 +82,18 @@ class RobotReport:
         if dt == 0.0:
             return self
         pose = self.pose
-        # every field but the pose copied as it is, without running __init__ again: a tenth of the cost of
-        # dataclasses.replace, which the strategy paid for every teammate in every cycle
-        moved = object.__new__(RobotReport)
-        moved.__dict__.update(self.__dict__, pose=Pose2D(pose.x + self.vx * dt, pose.y + self.vy * dt,
-                                                         wrap_angle(pose.theta + self.w * dt)))
-        return moved
+        return self.replaced(pose=Pose2D(pose.x + self.vx * dt, pose.y + self.vy * dt,
+                                         wrap_angle(pose.theta + self.w * dt)))
+
+    def replaced(self, **changes: object) -> RobotReport:
+        """``dataclasses.replace`` at a tenth of its cost, for the reports made every cycle: the other fields copied
+        as they are, without running ``__init__`` again (it checks nothing); an unknown field is an error."""
+        unknown = changes.keys() - self.__dict__.keys()
+        if unknown:
+            raise TypeError(f"RobotReport has no field {', '.join(sorted(unknown))}")
+        made = object.__new__(RobotReport)
+        made.__dict__.update(self.__dict__, **changes)
+        return made
 
 
 @dataclass(frozen=True)

@@ -203,8 +203,9 @@ class WorldModel:
             return report
         made = self._made_report  # asked for twice a cycle (snapshot, own_view): made once per input
         if made is None or made[0] is not report or made[1] is not s:
-            made = (report, s, replace(report, role=s.role, role_time=s.role_time, target_nums=s.target_nums,
-                                       static_pass=s.static_pass, static_catch=s.static_catch, target=s.target))
+            made = (report, s, report.replaced(role=s.role, role_time=s.role_time, target_nums=s.target_nums,
+                                               static_pass=s.static_pass, static_catch=s.static_catch,
+                                               target=s.target))
             self._made_report = made
         return made[2]
 
