@@ -82,17 +82,20 @@ class RobotReport:
         if dt == 0.0:
             return self
         pose = self.pose
-        return self.replaced(pose=Pose2D(pose.x + self.vx * dt, pose.y + self.vy * dt,
-                                         wrap_angle(pose.theta + self.w * dt)))
+        moved = object.__new__(RobotReport)  # as replaced() makes it: the strategy asks for every teammate's
+        moved.__dict__.update(self.__dict__, pose=Pose2D(pose.x + self.vx * dt, pose.y + self.vy * dt,
+                                                         wrap_angle(pose.theta + self.w * dt)))
+        return moved
 
     def replaced(self, **changes: object) -> RobotReport:
         """``dataclasses.replace`` at a tenth of its cost, for the reports made every cycle: the other fields copied
         as they are, without running ``__init__`` again (it checks nothing); an unknown field is an error."""
-        unknown = changes.keys() - self.__dict__.keys()
-        if unknown:
-            raise TypeError(f"RobotReport has no field {', '.join(sorted(unknown))}")
+        fields = self.__dict__
+        for name in changes:
+            if name not in fields:
+                raise TypeError(f"RobotReport has no field {name}")
         made = object.__new__(RobotReport)
-        made.__dict__.update(self.__dict__, **changes)
+        made.__dict__.update(fields, **changes)
         return made
 
 
