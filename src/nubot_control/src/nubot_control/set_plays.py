@@ -131,8 +131,9 @@ def _spots(ideals: list[tuple[float, float]], ball: FusedBall, radius: float, fi
                 legal = _legal(gx, gy, ball, radius, field, penalty_areas)
                 grid = gx[legal], gy[legal]
             cost = (grid[0] - ix) ** 2 + (grid[1] - iy) ** 2
-            for px, py in chosen:
-                cost[(grid[0] - px) ** 2 + (grid[1] - py) ** 2 < _APART ** 2] = np.inf
+            if chosen:  # no spot within _APART of one chosen (all of them at once: (chosen, grid) arrays)
+                px, py = np.array(chosen).T[:, :, None]
+                cost[((grid[0] - px) ** 2 + (grid[1] - py) ** 2 < _APART ** 2).any(axis=0)] = np.inf
             k = int(np.argmin(cost)) if cost.size else -1
             if k >= 0 and np.isfinite(cost[k]):  # else the field has no room left: the clamped ideal spot
                 spot = (float(grid[0][k]), float(grid[1][k]))
