@@ -519,7 +519,8 @@ def main(argv: list[str] | None = None) -> int:
         trace = record_sensing(seeds, args.seconds)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
-    args.out = args.out.with_name(args.out.name + ".npz") if args.out.suffix != ".npz" else args.out  # as numpy names it
+    if args.out.suffix != ".npz":  # numpy would add it
+        args.out = args.out.with_name(args.out.name + ".npz")
     args.out.parent.mkdir(parents=True, exist_ok=True)
     np.savez_compressed(args.out, **trace)
     print(f"golden: {args.piece} trace written to {args.out} ({args.out.stat().st_size // 1024} KiB)", file=sys.stderr)

@@ -37,7 +37,7 @@ class Track:
         """Give back the memory of the pages read so far when the positions map a file (a lockstep recorder's
         track): they are read again from the file when next used. A pass over a whole match calls this as it goes,
         so that its tracks are never all in memory at once."""
-        base = self.xy
+        base: object = self.xy
         while isinstance(base, np.ndarray):
             base = base.base
         if isinstance(base, memoryview):
