@@ -82,7 +82,7 @@ class RobotReport:
         if dt == 0.0:
             return self
         pose = self.pose
-        moved = object.__new__(RobotReport)  # as replaced() makes it: the strategy asks for every teammate's
+        moved = object.__new__(RobotReport)  # as replaced() makes it, without its check: every teammate, every cycle
         moved.__dict__.update(self.__dict__, pose=Pose2D(pose.x + self.vx * dt, pose.y + self.vy * dt,
                                                          wrap_angle(pose.theta + self.w * dt)))
         return moved
