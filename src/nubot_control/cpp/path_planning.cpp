@@ -55,34 +55,29 @@ struct Scene {
   }
 
   // Each obstacle's cluster, by its lowest member: obstacles closer than the sum of their detour radii are
-  // connected, transitively (the closure by squaring the reach matrix).
+  // connected, transitively. A search over those connections from each obstacle not yet in a cluster, lowest first:
+  // k^2 distance checks (the goals' frames alone are dozens of obstacles).
   Eigen::VectorXi clusters() const {
     const Eigen::Index k = size();
-    Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> reach(k, k);
-    for (Eigen::Index i = 0; i < k; ++i) {
-      for (Eigen::Index j = 0; j < k; ++j) {
-        const double dx = centres(i, 0) - centres(j, 0), dy = centres(i, 1) - centres(j, 1);
-        const double r = detour(i) + detour(j);
-        reach(i, j) = dx * dx + dy * dy < r * r;
-      }
-    }
-    while (true) {
-      Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> wider(k, k);
-      for (Eigen::Index i = 0; i < k; ++i) {
-        for (Eigen::Index j = 0; j < k; ++j) {
-          bool any = false;
-          for (Eigen::Index m = 0; m < k && !any; ++m) any = reach(i, m) && reach(m, j);
-          wider(i, j) = any;
+    Eigen::VectorXi labels_ = Eigen::VectorXi::Constant(k, -1);
+    std::vector<Eigen::Index> open;
+    for (Eigen::Index first = 0; first < k; ++first) {
+      if (labels_(first) >= 0) continue;
+      labels_(first) = static_cast<int>(first);
+      open.assign(1, first);
+      while (!open.empty()) {
+        const Eigen::Index i = open.back();
+        open.pop_back();
+        for (Eigen::Index j = first + 1; j < k; ++j) {
+          if (labels_(j) >= 0) continue;
+          const double dx = centres(i, 0) - centres(j, 0), dy = centres(i, 1) - centres(j, 1);
+          const double r = detour(i) + detour(j);
+          if (dx * dx + dy * dy < r * r) {
+            labels_(j) = static_cast<int>(first);
+            open.push_back(j);
+          }
         }
       }
-      if (wider == reach) break;
-      reach = wider;
-    }
-    Eigen::VectorXi labels_(k);
-    for (Eigen::Index i = 0; i < k; ++i) {
-      Eigen::Index first = 0;
-      while (first < k && !reach(i, first)) ++first;
-      labels_(i) = static_cast<int>(first < k ? first : 0);
     }
     return labels_;
   }
