@@ -28,7 +28,7 @@ from nubot_control.chances import ChanceParams
 from nubot_control.motion import MotionController
 from nubot_control.params import ControlParams
 from nubot_control.role_allocation import RoleAllocator
-from nubot_control.set_plays import Formation, formation
+from nubot_control.set_plays import Formation, KeptFormation
 from nubot_control.team_state import TeamState
 
 _BALL_IN_PLAY_DISTANCE = 0.5  # a restart is over once the ball moved this far [m]
@@ -62,6 +62,7 @@ class Strategy:
         self.role_since = 0.0
         self._last_time: float | None = None
         self._restart: Formation | None = None  # the formation of the set piece being restarted
+        self._formation = KeptFormation()  # the formation of the command in force
         self._restart_ball: tuple[float, float] | None = None
         self._restart_over = False
         self._mode_seen: tuple[MatchMode, float] | None = None
@@ -167,6 +168,7 @@ class Strategy:
     # --- game flow ------------------------------------------------------------------------
     def _on_new_mode(self, state: TeamState) -> None:
         self._frozen_roles = None  # who stands where is decided once per command, so robots do not swap
+        self._formation.clear()
         if state.mode == MatchMode.STARTROBOT:
             self._restart_ball = (state.ball.x, state.ball.y)
             self._restart_over = state.previous_mode not in _RESTARTS
@@ -183,7 +185,7 @@ class Strategy:
             if self._frozen_roles is None or not set(self._frozen_roles) >= {m.agent_id for m in team}:
                 self._frozen_roles = self.allocator.assign(state)
             roles = dict(self._frozen_roles)
-            plan = formation(mode, state.ball, team, roles, state.field, self.params.play)
+            plan = self._formation.formation(mode, state.ball, team, roles, state.field, self.params.play)
             self._restart = plan if mode in _RESTARTS else None
             if plan.taker:
                 roles = {**roles, plan.taker: Role.PASSOFPASS}

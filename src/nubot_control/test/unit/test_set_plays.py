@@ -12,7 +12,7 @@ from nubot_common.team_play import Role
 from nubot_common.world_state import FusedBall
 from nubot_control.areas import AREA_MARGIN, in_area
 from nubot_control.params import PlayParams
-from nubot_control.set_plays import formation
+from nubot_control.set_plays import HOLD_DISTANCE, KeptFormation, formation
 
 FIELD, PLAY = FieldGeometry(), PlayParams(goalie_id=1)
 TEAM = [RobotReport(i, Pose2D(x, y, 0.0)) for i, (x, y) in
@@ -121,3 +121,27 @@ def test_parking_lines_up_along_the_side_line():
     assert ys == {-FIELD.half_width - 0.5}
     xs = sorted(p.x for p in plan.targets.values())
     assert min(b - a for a, b in zip(xs, xs[1:])) >= 1.0, "robots park apart"
+
+
+def test_a_kept_formation_stays_while_the_ball_estimate_wanders_and_is_made_anew_when_the_ball_is_moved():
+    kept = KeptFormation()
+    mode = MatchMode.OPP_FREEKICK
+    first = kept.formation(mode, FusedBall(2.0, 1.0), TEAM, ROLES, FIELD, PLAY)
+    assert first == formation(mode, FusedBall(2.0, 1.0), TEAM, ROLES, FIELD, PLAY)
+    wandered = FusedBall(2.0 + 0.6 * HOLD_DISTANCE, 1.0 - 0.6 * HOLD_DISTANCE)
+    assert kept.formation(mode, wandered, TEAM, ROLES, FIELD, PLAY) is first  # the spots do not follow the noise
+    for agent, pose in first.targets.items():  # and still keep the rule's distance from the ball
+        assert math.hypot(pose.x - wandered.x, pose.y - wandered.y) >= PLAY.set_play_distance, agent
+    moved = FusedBall(2.0 + 1.5 * HOLD_DISTANCE, 1.0)
+    again = kept.formation(mode, moved, TEAM, ROLES, FIELD, PLAY)
+    assert again == formation(mode, moved, TEAM, ROLES, FIELD, PLAY) and again != first
+    other_mode = kept.formation(MatchMode.OPP_CORNERKICK, moved, TEAM, ROLES, FIELD, PLAY)
+    assert other_mode == formation(MatchMode.OPP_CORNERKICK, moved, TEAM, ROLES, FIELD, PLAY)
+    fewer = TEAM[:4]
+    assert set(kept.formation(MatchMode.OPP_CORNERKICK, moved, fewer, ROLES, FIELD, PLAY).targets) == {1, 2, 3, 4}
+    swapped = {**ROLES, 3: Role.PASSIVE, 4: Role.ASSISTANT}
+    assert (kept.formation(MatchMode.OPP_CORNERKICK, moved, fewer, swapped, FIELD, PLAY)
+            == formation(MatchMode.OPP_CORNERKICK, moved, fewer, swapped, FIELD, PLAY))
+    kept.clear()
+    assert kept.formation(mode, wandered, TEAM, ROLES, FIELD, PLAY) == formation(mode, wandered, TEAM, ROLES, FIELD,
+                                                                                  PLAY)
