@@ -35,6 +35,10 @@ from its start must step the same way.
 ``python -m nubot_tools.golden obstacles --out FILE`` records every call of ``--trackers`` robots' obstacle trackers
 (``ObstacleTracker.update`` and ``estimate``), in order.
 
+``python -m nubot_tools.golden cameras --out FILE`` records the front cameras' cylinders and the RGB-D cameras' ray
+casts while every robot's cameras render the match a few times a second, then over seeded scenes that show what the
+matches do not (tops seen from above; ``record_cameras``).
+
 The file is numpy's compressed ``.npz`` (``world``: JSON lines, xz-compressed).
 """
 
@@ -487,9 +491,143 @@ def record_sensing(seeds: list[int], seconds: float) -> dict[str, np.ndarray]:
     return trace
 
 
+def record_cameras(seeds: list[int], seconds: float, period: float = 0.3, cylinders: int = 600,
+                   views: int = 100) -> dict[str, np.ndarray]:
+    """Ray casting of the front and RGB-D cameras in the matches: every ``period`` [s] of sim time each robot's
+    cameras render the scene (a goalie its two RGB-D cameras, any other robot its front camera). Both cameras sit
+    below the robots' and the posts' tops, so ``cylinders`` seeded cylinders (lower and higher than the front camera's
+    lens, in front of it) and ``views`` seeded RGB-D views (cameras 0.3-2 m high looking down on robots, the ball and
+    the goals) follow, drawn from ``default_rng(0)``. Recorded:
+
+    - ``paint``: every upright cylinder the front cameras painted (``FrontCameraRenderer._paint_cylinder``): its box
+      (u0, v0, u1, v1), geometry (x, y, height, radius in the body frame), side and top colours; ``side_bits`` and
+      ``top_bits``: which pixels of the box it painted in the side's and in the top's colour (row by row, as
+      ``np.packbits``: each cylinder's bits from a new byte, its first byte at ``bits_offsets``);
+    - ``cast``: every RGB-D ray cast (``RgbdCameraRenderer.cast``): the viewpoint and rotation (twelve numbers);
+      ``shapes`` (six numbers each, ragged); what each ray met (``kind``, ragged), the ranges of the rays that met
+      the ball (``ranges``, ragged) and the SHA-256 of all the ranges' bytes (``ranges_sha``)."""
+    import hashlib
+
+    from kinect_ball.mount import CameraMount
+    from nubot_common.world_description import WorldDescription
+    from nubot_match.config import match_config
+    from nubot_match.engine import LockstepMatch
+    from sim_visual.front_camera import FrontCameraRenderer
+    from sim_visual.params import SensorParams
+    from sim_visual.rgbd_camera import BALL, RgbdCameraRenderer
+    from sim_visual.world import BallState, RobotState
+
+    paints: list[list[float]] = []
+    side_bits: list[np.ndarray] = []
+    top_bits: list[np.ndarray] = []
+    casts: list[np.ndarray] = []
+    shapes: list[np.ndarray] = []
+    kinds: list[np.ndarray] = []
+    ranges: list[np.ndarray] = []
+    digests: list[np.ndarray] = []
+    paint, cast, pose = FrontCameraRenderer._paint_cylinder, RgbdCameraRenderer.cast, RgbdCameraRenderer.pose
+    posed: list[tuple[np.ndarray, np.ndarray]] = []
+
+    def recorded_paint(self: Any, image: np.ndarray, box: tuple[int, int, int, int], geometry: Any,
+                       side_rgb: np.ndarray, top_rgb: np.ndarray) -> None:
+        # The box picks the camera's rays: painted on whole images (once dark, once light: any colour shows) and
+        # read back within the box
+        u0, v0, u1, v1 = box
+        dark, light = (np.full(image.shape, fill, np.uint8) for fill in (0, 255))
+        for canvas in (dark, light):
+            paint(self, canvas, box, geometry, side_rgb, top_rgb)
+        if np.array_equal(side_rgb, top_rgb):
+            raise RuntimeError("golden cameras: a cylinder's side and top have one colour")
+        outside = np.ones(image.shape[:2], bool)
+        outside[v0:v1, u0:u1] = False
+        if (dark[outside] != 0).any() or (light[outside] != 255).any():
+            raise RuntimeError("golden cameras: a cylinder painted outside its box")
+        dark, light = dark[v0:v1, u0:u1], light[v0:v1, u0:u1]
+        touched = (dark != 0).any(axis=2) | (light != 255).any(axis=2)
+        top = touched & (dark == top_rgb).all(axis=2)
+        paints.append([*box, *geometry, *side_rgb, *top_rgb])
+        side_bits.append(np.packbits(touched & ~top))
+        top_bits.append(np.packbits(top))
+        paint(self, image, box, geometry, side_rgb, top_rgb)
+
+    def recorded_pose(self: Any, mount: Any, me: Any) -> tuple[np.ndarray, np.ndarray]:
+        posed.append(pose(self, mount, me))
+        return posed[-1]
+
+    def recorded_cast(self: Any, o: np.ndarray, d: np.ndarray, bodies: list[tuple]) -> tuple[np.ndarray, np.ndarray]:
+        rng_t, kind = cast(self, o, d, bodies)
+        origin, rotation = posed.pop()
+        if not (np.array_equal(origin, o) and np.array_equal(self.rays @ rotation.T, d)):
+            raise RuntimeError("golden cameras: a cast's rays are not the camera's rays rotated")
+        casts.append(np.concatenate([o, rotation.reshape(-1)]))
+        shapes.append(np.array(bodies, dtype=float).reshape(-1, 6))
+        kinds.append(kind.reshape(-1, 1))
+        ranges.append(rng_t[kind == BALL].reshape(-1, 1))
+        digests.append(np.frombuffer(hashlib.sha256(rng_t.tobytes()).digest(), np.uint8))
+        return rng_t, kind
+
+    FrontCameraRenderer._paint_cylinder = recorded_paint  # type: ignore[assignment]
+    RgbdCameraRenderer.cast, RgbdCameraRenderer.pose = recorded_cast, recorded_pose  # type: ignore[assignment]
+    try:
+        for seed in seeds:
+            config = match_config(TEAMS / "nubot.yaml", TEAMS / "rival.yaml", "18x12", "mpc", half_seconds=600.0,
+                                  halves=2, seed=seed)
+            with LockstepMatch(config, []) as match:
+                match.reset(seed)
+                sim = match.sim
+                assert sim is not None
+                t = period
+                while t <= seconds + 1e-9:
+                    match.run(until=t)
+                    for name in sorted(sim.plugins):
+                        if name in match.goalies:
+                            sim.rgbd_frames(name)
+                        else:
+                            sim.front_camera_frame(name)
+                    t += period
+            print(f"golden: seed {seed} played ({seconds:.0f} s)", file=sys.stderr)
+        rng = np.random.default_rng(0)
+        world, params = WorldDescription(), SensorParams()
+        front = FrontCameraRenderer(world, params.front_camera, params.camera)
+        image = np.zeros((front.camera.height, front.camera.width, 3), np.uint8)
+        for _ in range(cylinders):
+            x, y, height, radius = (float(v) for v in rng.uniform((0.1, -3.0, 0.05, 0.05), (5.0, 3.0, 1.2, 0.5)))
+            r, g, b = (float(c) for c in rng.uniform(10.0, 240.0, 3))
+            front._draw_cylinder(image, (x, y, height, radius), (r, g, b))
+        rgbd = RgbdCameraRenderer(world, params.rgbd)
+        f = world.field
+        for _ in range(views):
+            side = float(rng.choice((-1.0, 1.0)))
+            x, y = side * rng.uniform(2.0, f.half_length), rng.uniform(-f.half_width, f.half_width)
+            heading = math.atan2(-y, side * f.half_length - x) + rng.uniform(-1.0, 1.0)  # towards the goal, roughly
+            me = RobotState(float(x), float(y), float(heading), 0.0, 0.0, 0.0)
+            mount = CameraMount(z=float(rng.uniform(0.3, 2.0)), yaw_deg=float(rng.uniform(-45.0, 45.0)),
+                                pitch_deg=float(rng.uniform(-60.0, 20.0)))
+            around = [(float(d), heading + float(a))
+                      for d, a in zip(rng.uniform(0.6, 4.0, 5), rng.uniform(-0.8, 0.8, 5), strict=True)]
+            others = [RobotState(x + d * math.cos(a), y + d * math.sin(a), 0.0, 0.0, 0.0, 0.0) for d, a in around[:4]]
+            d, a = around[4]
+            ball = BallState(x + d * math.cos(a), y + d * math.sin(a), float(rng.uniform(world.ball.radius, 1.5)), 0.0,
+                             0.0, 0.0)
+            rgbd.render_camera("left", mount, me, ball, others, 0.0, rng)
+    finally:
+        FrontCameraRenderer._paint_cylinder = paint  # type: ignore[assignment]
+        RgbdCameraRenderer.cast, RgbdCameraRenderer.pose = cast, pose  # type: ignore[assignment]
+    trace: dict[str, np.ndarray] = {"paint": np.array(paints).reshape(-1, 14), "cast": np.array(casts),
+                                    "ranges_sha": np.array(digests)}
+    trace["side_bits"], trace["top_bits"] = np.concatenate(side_bits), np.concatenate(top_bits)
+    trace["bits_offsets"] = np.append(0, np.cumsum([len(b) for b in side_bits])).astype(np.int64)
+    trace["kind"] = np.concatenate(kinds)  # bytes, not floats
+    trace["kind_offsets"] = np.append(0, np.cumsum([len(k) for k in kinds])).astype(np.int64)
+    trace["shapes"], trace["shapes_offsets"] = _ragged(shapes, 6)
+    trace["ranges"], trace["ranges_offsets"] = _ragged(ranges, 1)
+    print(f"golden: {len(paints)} cylinders painted, {len(casts)} RGB-D casts", file=sys.stderr)
+    return trace
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("piece", choices=("follow", "world", "obstacles", "physics", "sensing"))
+    ap.add_argument("piece", choices=("follow", "world", "obstacles", "physics", "sensing", "cameras"))
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--seeds", type=int, default=3, help="matches, seeds 0 .. N-1")
     ap.add_argument("--seconds", type=float, default=60.0, help="sim time per match [s]")
@@ -517,6 +655,8 @@ def main(argv: list[str] | None = None) -> int:
         trace = record_physics(seeds, args.seconds)
     elif args.piece == "sensing":
         trace = record_sensing(seeds, args.seconds)
+    elif args.piece == "cameras":
+        trace = record_cameras(seeds, args.seconds)
     else:
         trace = record_obstacles(seeds, args.seconds, args.trackers)
     if args.out.suffix != ".npz":  # numpy would add it

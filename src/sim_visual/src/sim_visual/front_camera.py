@@ -199,12 +199,20 @@ class FrontCameraRenderer:
         """An upright cylinder standing at (x, y) [m] of the body frame, ``height`` and ``radius`` [m]: its side and
         (seen from above) its top."""
         cx, cy, height, radius = geometry
-        o = self._origin
         corners = np.array([(cx + sx * radius, cy + sy * radius, z) for sx in (-1, 1) for sy in (-1, 1)
                             for z in (0.0, height)])
         box = self._box(corners)
         if box is None:
             return
+        side_rgb = np.clip(np.array(rgb) * self.params.robot_ambient, 0, 255).astype(np.uint8)
+        self._paint_cylinder(image, box, geometry, side_rgb, np.clip(np.array(rgb), 0, 255).astype(np.uint8))
+
+    def _paint_cylinder(self, image: np.ndarray, box: tuple[int, int, int, int],
+                        geometry: tuple[float, float, float, float], side_rgb: np.ndarray,
+                        top_rgb: np.ndarray) -> None:
+        """Paints the pixels of ``box`` whose rays meet the cylinder's side (``side_rgb``) or, nearer, its top."""
+        cx, cy, height, radius = geometry
+        o = self._origin
         u0, v0, u1, v1 = box
         rays = self._rays[v0:v1, u0:u1].astype(np.float64)
         dx, dy, dz = rays[..., 0], rays[..., 1], rays[..., 2]
@@ -220,11 +228,9 @@ class FrontCameraRenderer:
             t_top = (height - o[2]) / dz
             top = (t_top > 0.0) & ((ox + t_top * dx) ** 2 + (oy + t_top * dy) ** 2 <= radius * radius)
         top &= ~side | (t_top < t_side)
-        if not (side.any() or top.any()):
-            return
         crop = image[v0:v1, u0:u1]
-        crop[side] = np.clip(np.array(rgb) * self.params.robot_ambient, 0, 255).astype(np.uint8)
-        crop[top] = np.clip(np.array(rgb), 0, 255).astype(np.uint8)
+        crop[side] = side_rgb
+        crop[top] = top_rgb
 
     def _finish(self, image: np.ndarray, t: float, rng: np.random.Generator) -> np.ndarray:
         light = self.scene.time_lighting(t)

@@ -39,6 +39,7 @@ from sim_visual.camera_params import RGB
 from sim_visual.world import BallState, RobotState
 
 NONE, GROUND, LINE, BALL, ROBOT, GOAL = range(6)  # what a pixel's ray hit first
+CYLINDER, BAR, SPHERE = range(3)  # the bodies' shapes, for RgbdCameraRenderer.cast
 _FAR = 1e3  # [m] stands in for "no return" where depths are compared
 
 
@@ -171,13 +172,41 @@ class RgbdCameraRenderer:
 
     def render_camera(self, name: str, mount: CameraMount, me: RobotState, ball: BallState,
                       others: Sequence[RobotState], t: float, rng: np.random.Generator) -> RgbdFrame:
-        p, world = self.params, self.world
+        o, rotation = self.pose(mount, me)
+        rng_t, kind = self.cast(o, self.rays @ rotation.T, self.shapes(o, ball, others))
+        return self._sense(name, t, rng_t, kind, rng)
+
+    def pose(self, mount: CameraMount, me: RobotState) -> tuple[np.ndarray, np.ndarray]:
+        """The camera's position [m] and rotation (world <- camera) on robot ``me``."""
         c, s = math.cos(me.theta), math.sin(me.theta)
         heading = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-        rotation = heading @ mount.rotation()
-        o = np.array([me.x, me.y, 0.0]) + heading @ mount.offset
-        d = self.rays @ rotation.T
-        reach = p.max_range / max(float(self.rays[:, 0].min()), 1e-6)  # the farthest range a return can have
+        return np.array([me.x, me.y, 0.0]) + heading @ mount.offset, heading @ mount.rotation()
+
+    def shapes(self, o: np.ndarray, ball: BallState, others: Sequence[RobotState]) -> list[tuple]:
+        """The bodies within the cameras' reach of the viewpoint ``o`` [m], in the order they are cast:
+        (shape, what, four numbers): upright cylinders (CYLINDER: x, y, radius, top) for the other robots and the
+        goal posts, the goals' bars (BAR: x, z, radius, half length along y) and the ball (SPHERE: x, y, z,
+        radius)."""
+        world = self.world
+        reach = self.params.max_range / max(float(self.rays[:, 0].min()), 1e-6)  # the farthest range of a return
+        body = world.robot
+        out: list[tuple] = [(CYLINDER, ROBOT, other.x, other.y, body.radius, body.height) for other in others
+                            if math.hypot(other.x - o[0], other.y - o[1]) <= reach + body.radius]
+        f = world.field
+        for side in (-1, 1):
+            posts = f.goal_posts(side)
+            if math.hypot(posts[0][0] - o[0], o[1]) > reach + f.goal_width:
+                continue
+            out += [(CYLINDER, GOAL, px, py, f.post_radius, f.goal_height) for px, py in posts]
+            out.append((BAR, GOAL, side * (f.half_length + f.post_radius), f.goal_height + f.post_radius,
+                        f.post_radius, f.goal_outer_half_width))
+        if np.linalg.norm(np.array([ball.x, ball.y, ball.z]) - o) <= reach + world.ball.radius:
+            out.append((SPHERE, BALL, ball.x, ball.y, ball.z, world.ball.radius))
+        return out
+
+    def cast(self, o: np.ndarray, d: np.ndarray, shapes: list[tuple]) -> tuple[np.ndarray, np.ndarray]:
+        """The range [m] along each world-frame ray ``d`` from ``o`` to what it meets first (inf: nothing), and
+        what that is (GROUND, LINE, ``shapes``' labels; NONE)."""
         rng_t = np.full(len(d), np.inf)
         kind = np.zeros(len(d), dtype=np.uint8)
 
@@ -188,24 +217,15 @@ class RgbdCameraRenderer:
 
         with np.errstate(divide="ignore", invalid="ignore"):
             hit(np.where(d[:, 2] < 0.0, -o[2] / d[:, 2], np.inf), GROUND)
-        body = world.robot
-        for other in others:
-            if math.hypot(other.x - o[0], other.y - o[1]) <= reach + body.radius:
-                hit(_vertical_cylinder(o, d, other.x, other.y, body.radius, body.height), ROBOT)
-        f = world.field
-        for side in (-1, 1):
-            posts = f.goal_posts(side)
-            if math.hypot(posts[0][0] - o[0], o[1]) > reach + f.goal_width:
-                continue
-            for px, py in posts:
-                hit(_vertical_cylinder(o, d, px, py, f.post_radius, f.goal_height), GOAL)
-            hit(_bar(o, d, side * (f.half_length + f.post_radius), f.goal_height + f.post_radius, f.post_radius,
-                     f.goal_outer_half_width), GOAL)
-        centre = np.array([ball.x, ball.y, ball.z])
-        if np.linalg.norm(centre - o) <= reach + world.ball.radius:
-            hit(_sphere(o, d, centre, world.ball.radius), BALL)
+        for shape, what, a, b, c, e in shapes:
+            if shape == CYLINDER:
+                hit(_vertical_cylinder(o, d, a, b, c, e), what)
+            elif shape == BAR:
+                hit(_bar(o, d, a, b, c, e), what)
+            else:
+                hit(_sphere(o, d, np.array([a, b, c]), e), what)
         self._mark_lines(o, d, rng_t, kind)
-        return self._sense(name, t, rng_t, kind, rng)
+        return rng_t, kind
 
     def _mark_lines(self, o: np.ndarray, d: np.ndarray, rng_t: np.ndarray, kind: np.ndarray) -> None:
         ground = np.flatnonzero((kind == GROUND) & (rng_t * self.rays[:, 0] <= self.params.max_range))
