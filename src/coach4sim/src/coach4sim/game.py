@@ -20,6 +20,7 @@ from coach4sim import CoachError
 from coach4sim.params import TeamSpec, validate_teams
 from nubot_common.match_mode import MatchMode, parse_match_mode
 from nubot_common.naming import is_robot_name, team_of
+from nubot_common.records import fast_init
 
 HALF_NAMES = {1: "first half", 2: "second half"}
 
@@ -38,6 +39,7 @@ class TeamStatus:
     previous: MatchMode = MatchMode.STOPROBOT
 
 
+@fast_init
 @dataclass(frozen=True)
 class GameStateData:
     """A snapshot of the game; index i of each tuple is team i."""

@@ -37,6 +37,7 @@ from coach4sim.game import GameController, half_name
 from coach4sim.params import RefereeParams
 from nubot_common.match_mode import MatchMode, parse_match_mode
 from nubot_common.naming import team_of
+from nubot_common.records import fast_init
 
 
 @dataclass(frozen=True)
@@ -47,6 +48,7 @@ class GoalSeen:
     last_touch: str = ""
 
 
+@fast_init
 @dataclass(frozen=True)
 class WorldSnapshot:
     """What the referee sees at one moment (world frame, SI units)."""

@@ -11,12 +11,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import IntEnum
 
+from nubot_common.records import fast_init
+
 
 class KickKind(IntEnum):
     GROUND = -1  # ground pass along the robot's heading, strength = initial ball speed [m/s]
     LOB = 1  # lob shot at the attacked goal; the kicker computes its strength
 
 
+@fast_init
 @dataclass(frozen=True)
 class BodyVelocity:
     vx: float = 0.0  # forward [m/s]
@@ -30,6 +33,7 @@ class KickCommand:
     strength: int  # ground pass: initial ball speed [m/s] (Shoot.strength is int64, chapter Table 3)
 
 
+@fast_init
 @dataclass(frozen=True)
 class RobotCommand:
     velocity: BodyVelocity = BodyVelocity()

@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from nubot_common.records import fast_init
+
 
 def wrap_angle(angle: float) -> float:
     """Wrap an angle [rad] into (-pi, pi]."""
@@ -30,6 +32,7 @@ def to_polar(x: float, y: float) -> tuple[float, float]:
     return math.atan2(y, x), math.hypot(x, y)
 
 
+@fast_init
 @dataclass(frozen=True)
 class Pose2D:
     """A pose in the field plane: position [m] and heading [rad] (counter-clockwise from +x)."""

@@ -14,9 +14,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from nubot_common.geometry import Pose2D, wrap_angle
+from nubot_common.records import fast_init
 from nubot_common.team_play import Point, Role
 
 
+@fast_init
 @dataclass(frozen=True)
 class BallPercept:
     stamp: float  # time of the observation [s]
@@ -31,6 +33,7 @@ class BallPercept:
         return self.x, self.y
 
 
+@fast_init
 @dataclass(frozen=True)
 class Ball3dPercept:
     """The ball in 3-D (the goalie's RGB-D cameras, BallInfo3d): its centre and, once fitted, its velocity.
@@ -58,6 +61,7 @@ class Ball3dPercept:
         return BallPercept(self.stamp, self.x, self.y, self.vx, self.vy, self.velocity_known)
 
 
+@fast_init
 @dataclass(frozen=True)
 class RobotReport:
     agent_id: int
@@ -99,6 +103,7 @@ class RobotReport:
         return made
 
 
+@fast_init
 @dataclass(frozen=True)
 class RobotView:
     stamp: float  # [s]

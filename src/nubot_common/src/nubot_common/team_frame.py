@@ -14,8 +14,10 @@ from dataclasses import dataclass
 
 from nubot_common import NubotCommonError
 from nubot_common.geometry import Pose2D, wrap_angle
+from nubot_common.records import fast_init
 
 
+@fast_init
 @dataclass(frozen=True)
 class TeamFrame:
     attack: int = 1  # the world goal the team attacks: 1 at +x, -1 at -x

@@ -10,6 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from enum import IntEnum
 
+from nubot_common.records import fast_init
+
 Point = tuple[float, float]  # [m], team frame
 
 
@@ -53,6 +55,7 @@ class PassCommand:
         return replace(self, is_passout=True)
 
 
+@fast_init
 @dataclass(frozen=True)
 class StrategyReport:
     """One robot's strategy this cycle, as its teammates and its world model learn it (StrategyInfo)."""

@@ -18,6 +18,7 @@ from nubot_common.ball_flight import GRAVITY, landing
 from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import MatchMode
 from nubot_common.percepts import Ball3dPercept, BallPercept, RobotReport
+from nubot_common.records import fast_init
 from nubot_common.team_play import PassCommand, Point, Role
 
 
@@ -43,6 +44,7 @@ class ObstacleLabel(Enum):
     OPPONENT = "opponent"
 
 
+@fast_init
 @dataclass(frozen=True)
 class FusedBall:
     """The ball as the world model believes it; when not ``known``, (x, y) is where it was last seen."""
@@ -67,6 +69,7 @@ class FusedBall:
         return self.x, self.y
 
 
+@fast_init
 @dataclass(frozen=True)
 class BallFlight:
     """The ball in 3-D from this robot's RGB-D cameras, and where and when it comes down while it flies."""
@@ -89,6 +92,7 @@ class BallFlight:
         return self.touchdown is not None
 
 
+@fast_init
 @dataclass(frozen=True)
 class Teammate:
     """A member of the team (this robot included) as the world model sees it now."""
@@ -160,6 +164,7 @@ class GameState:
         return self.command.previous
 
 
+@fast_init
 @dataclass(frozen=True)
 class WorldState:
     """One robot's fused world model at ``stamp``."""

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from nubot_common.commands import RobotCommand
 from nubot_common.naming import RobotName
 from nubot_common.percepts import Ball3dPercept, RobotView
+from nubot_common.records import fast_init
 from nubot_common.team_play import Point, Role, StrategyReport
 from nubot_common.world_description import WorldDescription
 from nubot_common.world_state import CoachExtras, GameState, WorldState
@@ -39,6 +40,7 @@ from world_model.world_model import WorldModel
 DRIBBLE_RETRY = 0.2  # ask again for the ball this often while wanting it and not holding it [s]
 
 
+@fast_init
 @dataclass(frozen=True)
 class ControlStep:
     command: RobotCommand
@@ -93,6 +95,7 @@ class Controller:
                               taker, receiver, holding, taker == self.agent_id, out.pass_cmd, out.target)
 
 
+@fast_init
 @dataclass(frozen=True)
 class AgentStep:
     command: RobotCommand

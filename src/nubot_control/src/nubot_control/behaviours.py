@@ -20,6 +20,7 @@ from nubot_common.commands import KickCommand, KickKind
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, wrap_angle
 from nubot_common.percepts import RobotReport
+from nubot_common.records import fast_init
 from nubot_common.team_play import PassCommand, Role
 from nubot_control.chances import ChanceParams, lob_chance, pass_margin, shot_chance, shot_chances
 from nubot_control.params import ControlParams
@@ -47,6 +48,7 @@ class Action(IntEnum):
     SEARCH = 10
 
 
+@fast_init
 @dataclass(frozen=True)
 class Intent:
     target: Pose2D

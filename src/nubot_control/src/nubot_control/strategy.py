@@ -20,6 +20,7 @@ from dataclasses import dataclass, replace
 from nubot_common.commands import BodyVelocity, KickCommand
 from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import OUR_SET_PLAYS, THEIR_SET_PLAYS, MatchMode
+from nubot_common.records import fast_init
 from nubot_common.team_play import PassCommand, Role
 from nubot_common.world_description import WorldDescription
 from nubot_control import behaviours as bh
@@ -38,6 +39,7 @@ _RELEASED = 0.7  # a ball this far from the robot's centre has been let go for a
 _RESTARTS = OUR_SET_PLAYS | THEIR_SET_PLAYS
 
 
+@fast_init
 @dataclass(frozen=True)
 class ControlOutput:
     velocity: BodyVelocity  # body frame

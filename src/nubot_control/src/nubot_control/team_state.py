@@ -16,12 +16,14 @@ from dataclasses import dataclass
 from nubot_common.field import FieldGeometry
 from nubot_common.match_mode import MatchMode
 from nubot_common.percepts import RobotReport
+from nubot_common.records import fast_init
 from nubot_common.team_play import PassCommand, Point
 from nubot_common.world_state import BallFlight, FusedBall, WorldState
 
 MAX_PREDICTION = 0.3  # [s] a teammate is moved on by at most this (the world model's teammate_timeout)
 
 
+@fast_init
 @dataclass(frozen=True)
 class TeamState:
     time: float  # [s], sim time of this control cycle

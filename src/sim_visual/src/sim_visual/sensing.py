@@ -21,6 +21,7 @@ import numpy as np
 from nubot_common.geometry import Pose2D, wrap_angle
 from nubot_common.kernels import load_kernels
 from nubot_common.percepts import Ball3dPercept, BallPercept, RobotReport, RobotView
+from nubot_common.records import fast_init
 from nubot_common.team_frame import TeamFrame
 from sim_visual.params import NoiseParams
 from sim_visual.world import BallState, RobotState
@@ -31,6 +32,7 @@ else:
     _kernels = load_kernels("sim_visual")
 
 
+@fast_init
 @dataclass(frozen=True)
 class RobotFlags:
     """What the robot knows of itself beyond its pose (RobotInfo's flags)."""

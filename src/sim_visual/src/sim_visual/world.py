@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 from nubot_common.commands import BodyVelocity
 from nubot_common.field import FieldGeometry
 from nubot_common.kernels import load_kernels
+from nubot_common.records import fast_init
 from nubot_common.world_description import BallBody, RobotBody
 from sim_visual import SimVisualError
 
@@ -50,6 +51,7 @@ def _simulated_ball_mass(ball: BallBody) -> float:
     return (4.0 / 3.0) * math.pi * ball.radius * ball.radius * ball.radius * ball.mass
 
 
+@fast_init
 @dataclass(frozen=True)
 class RobotState:
     """A robot in the world frame: position [m], heading [rad], velocity [m/s], [rad/s]."""
@@ -62,6 +64,7 @@ class RobotState:
     w: float
 
 
+@fast_init
 @dataclass(frozen=True)
 class BallState:
     """The ball centre [m] and velocity [m/s] in the world frame, spin [rad/s]."""
