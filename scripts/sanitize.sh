@@ -19,7 +19,9 @@ tests=(src/nubot_control/test/unit/test_mpc.py src/nubot_control/test/unit/test_
        src/sim_visual/test/unit/test_physics_golden.py src/sim_visual/test/unit/test_simulator.py
        src/sim_visual/test/unit/test_sensing_golden.py src/sim_visual/test/unit/test_sensing.py
        src/sim_visual/test/unit/test_stuck_golden.py src/sim_visual/test/unit/test_robot_limits.py
-       src/sim_visual/test/unit/test_ball_handler_golden.py src/sim_visual/test/unit/test_rules.py)
+       src/sim_visual/test/unit/test_ball_handler_golden.py src/sim_visual/test/unit/test_rules.py
+       src/sim_visual/test/unit/test_cameras_golden.py src/sim_visual/test/unit/test_front_camera.py
+       src/sim_visual/test/unit/test_rgbd_camera.py)
 
 echo "[sanitize] building ${targets[*]} with -fsanitize=address,undefined into $kernels"
 if ! catkin_make --build "$build" -DCATKIN_DEVEL_PREFIX="$build/devel" -DNUBOT_SANITIZE=ON \

@@ -5,11 +5,13 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include "sim_visual/cameras.hpp"
 #include "sim_visual/physics.hpp"
 #include "sim_visual/sensing.hpp"
 
@@ -36,11 +38,180 @@ double finite(double value, const char* what) {
   return value;
 }
 
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+std::string shape_text(const std::vector<py::ssize_t>& shape) {
+  std::string text = "(";
+  for (std::size_t i = 0; i < shape.size(); ++i) {
+    text += (i ? ", " : "") + (shape[i] < 0 ? std::string("n") : std::to_string(shape[i]));
+  }
+  return text + (shape.size() == 1 ? ",)" : ")");
+}
+
+std::vector<py::ssize_t> shape_of(const py::array& array) { return {array.shape(), array.shape() + array.ndim()}; }
+
+bool fits(const std::vector<py::ssize_t>& shape, const std::vector<py::ssize_t>& wanted) {
+  if (shape.size() != wanted.size()) return false;
+  for (std::size_t i = 0; i < shape.size(); ++i) {
+    if (wanted[i] >= 0 && shape[i] != wanted[i]) return false;
+  }
+  return true;
+}
+
+// value as finite floats of shape wanted (-1: any length), else std::invalid_argument naming it.
+Array finite_array(const py::object& value, const char* name, const std::vector<py::ssize_t>& wanted) {
+  Array array = Array::ensure(value);
+  if (!array) {
+    PyErr_Clear();
+    throw std::invalid_argument(std::string(name) + " must be numbers of shape " + shape_text(wanted) + ", got " +
+                                std::string(py::repr(value)));
+  }
+  if (!fits(shape_of(array), wanted)) {
+    throw std::invalid_argument(std::string(name) + " must have shape " + shape_text(wanted) + ", got " +
+                                shape_text(shape_of(array)));
+  }
+  const double* data = array.data();
+  for (py::ssize_t i = 0; i < array.size(); ++i) {
+    if (!std::isfinite(data[i])) throw std::invalid_argument(std::string(name) + " must be finite numbers");
+  }
+  return array;
+}
+
+// An image-sized array as it is, read in place: of dtype T, C-contiguous, of shape wanted; else std::invalid_argument.
+template <typename T>
+py::array in_place(const py::object& value, const char* name, const char* dtype, const std::vector<py::ssize_t>& wanted,
+                   bool writeable) {
+  if (!py::isinstance<py::array>(value)) {
+    throw std::invalid_argument(std::string(name) + " must be a numpy array of " + dtype);
+  }
+  auto array = py::reinterpret_borrow<py::array>(value);
+  if (!array.dtype().is(py::dtype::of<T>())) {
+    throw std::invalid_argument(std::string(name) + " must be of dtype " + dtype + ", got " +
+                                std::string(py::str(array.dtype())));
+  }
+  if (!fits(shape_of(array), wanted)) {
+    throw std::invalid_argument(std::string(name) + " must have shape " + shape_text(wanted) + ", got " +
+                                shape_text(shape_of(array)));
+  }
+  if (!(array.flags() & py::array::c_style)) throw std::invalid_argument(std::string(name) + " must be C-contiguous");
+  if (writeable && !array.writeable()) throw std::invalid_argument(std::string(name) + " must be writeable");
+  return array;
+}
+
+sim_visual::Rgb colour(const std::array<int, 3>& rgb, const char* name) {
+  for (int c : rgb) {
+    if (c < 0 || c > 255) throw std::invalid_argument(std::string(name) + " must be three integers in [0, 255]");
+  }
+  return {static_cast<std::uint8_t>(rgb[0]), static_cast<std::uint8_t>(rgb[1]), static_cast<std::uint8_t>(rgb[2])};
+}
+
+// The bodies of a cast: rows (shape, label, four numbers).
+std::vector<sim_visual::Body> bodies_of(const py::object& value) {
+  const Array rows = finite_array(value, "shapes", {-1, 6});
+  std::vector<sim_visual::Body> bodies;
+  bodies.reserve(static_cast<std::size_t>(rows.shape(0)));
+  for (py::ssize_t i = 0; i < rows.shape(0); ++i) {
+    const double* r = rows.data(i, 0);
+    if (!(r[0] == 0.0 || r[0] == 1.0 || r[0] == 2.0)) {
+      throw std::invalid_argument("a shape must be CYLINDER, BAR or SPHERE (0, 1, 2), got " + std::to_string(r[0]));
+    }
+    if (!(r[1] >= 0.0 && r[1] <= 255.0 && r[1] == std::floor(r[1]))) {
+      throw std::invalid_argument("a shape's label must be an integer in [0, 255], got " + std::to_string(r[1]));
+    }
+    bodies.push_back({static_cast<sim_visual::Shape>(static_cast<int>(r[0])), static_cast<std::uint8_t>(r[1]),
+                      {r[2], r[3], r[4], r[5]}});
+  }
+  return bodies;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_kernels, m) {
-  m.doc() = "sim_visual's compiled kernels: the physics world's per-step work (see sim_visual.world) and the "
-            "robots' synthetic omni vision (see sim_visual.sensing).";
+  m.doc() = "sim_visual's compiled kernels: the physics world's per-step work (see sim_visual.world), the "
+            "robots' synthetic omni vision (see sim_visual.sensing) and the cameras' ray casting (see "
+            "sim_visual.front_camera and sim_visual.rgbd_camera).";
+
+  m.def(
+      "paint_cylinder",
+      [](const py::object& image, const py::object& rays, const std::array<int, 4>& box, const py::object& origin,
+         const py::object& geometry, const std::array<int, 3>& side_rgb, const std::array<int, 3>& top_rgb) {
+        py::array picture = in_place<std::uint8_t>(image, "image", "uint8", {-1, -1, 3}, true);
+        const py::ssize_t height = picture.shape(0), width = picture.shape(1);
+        const py::array grid = in_place<float>(rays, "rays", "float32", {height, width, 3}, false);
+        const auto [u0, v0, u1, v1] = box;
+        if (!(0 <= u0 && u0 <= u1 && u1 <= width && 0 <= v0 && v0 <= v1 && v1 <= height)) {
+          throw std::invalid_argument("box (u0, v0, u1, v1) must lie within the " + std::to_string(width) + " x " +
+                                      std::to_string(height) + " image, got (" + std::to_string(u0) + ", " +
+                                      std::to_string(v0) + ", " + std::to_string(u1) + ", " + std::to_string(v1) +
+                                      ")");
+        }
+        const Array o = finite_array(origin, "origin", {3});
+        const Array g = finite_array(geometry, "geometry", {4});
+        sim_visual::paint_cylinder(static_cast<std::uint8_t*>(picture.mutable_data()),
+                                   static_cast<const float*>(grid.data()), static_cast<int>(width),
+                                   {u0, v0, u1, v1}, Eigen::Vector3d(o.at(0), o.at(1), o.at(2)),
+                                   {g.at(0), g.at(1), g.at(2), g.at(3)}, colour(side_rgb, "side_rgb"),
+                                   colour(top_rgb, "top_rgb"));
+      },
+      py::arg("image"), py::arg("rays"), py::arg("box"), py::arg("origin"), py::arg("geometry"), py::arg("side_rgb"),
+      py::arg("top_rgb"),
+      "Paints, in place, the pixels of box (u0, v0, u1, v1; ends exclusive) of image (height x width x 3 uint8) "
+      "whose rays (the camera's body-frame rays, height x width x 3 float32) from origin meet the upright cylinder "
+      "geometry (x, y, height, radius [m], body frame): its side in side_rgb or, nearer, its top in top_rgb.");
+
+  py::class_<sim_visual::RgbdRayCaster>(m, "RgbdRayCaster",
+                                         "An RGB-D camera's rays and the field's lines, cast every frame.")
+      .def(py::init([](const py::object& rays, const py::object& segments, const py::object& arcs,
+                       double line_half_width, double max_range) {
+             const Array r = finite_array(rays, "rays", {-1, 3});
+             const Array s = finite_array(segments, "segments", {-1, 2, 2});
+             const Array a = finite_array(arcs, "arcs", {-1, 5});
+             if (!(std::isfinite(line_half_width) && line_half_width >= 0.0)) {
+               throw std::invalid_argument("line_half_width must be a finite number, not negative");
+             }
+             if (!(std::isfinite(max_range) && max_range > 0.0)) {
+               throw std::invalid_argument("max_range must be a finite number above 0");
+             }
+             std::vector<Eigen::Vector3d> ray_list;
+             ray_list.reserve(static_cast<std::size_t>(r.shape(0)));
+             for (py::ssize_t i = 0; i < r.shape(0); ++i) ray_list.emplace_back(r.at(i, 0), r.at(i, 1), r.at(i, 2));
+             std::vector<sim_visual::LineSegment> segment_list;
+             for (py::ssize_t i = 0; i < s.shape(0); ++i) {
+               segment_list.push_back({s.at(i, 0, 0), s.at(i, 0, 1), s.at(i, 1, 0), s.at(i, 1, 1)});
+             }
+             std::vector<sim_visual::LineArc> arc_list;
+             for (py::ssize_t i = 0; i < a.shape(0); ++i) {
+               arc_list.push_back({a.at(i, 0), a.at(i, 1), a.at(i, 2), a.at(i, 3), a.at(i, 4)});
+             }
+             return sim_visual::RgbdRayCaster(std::move(ray_list), segment_list, std::move(arc_list), line_half_width,
+                                              max_range);
+           }),
+           py::arg("rays"), py::arg("segments"), py::arg("arcs"), py::arg("line_half_width"), py::arg("max_range"),
+           "rays: the camera-frame unit rays (n x 3); segments: the field's straight lines ((x0, y0), (x1, y1)); "
+           "arcs: its arcs (x, y, radius, start, end); half a line's width and the farthest depth of a return [m].")
+      .def("__len__", &sim_visual::RgbdRayCaster::size)
+      .def(
+          "cast",
+          [](const sim_visual::RgbdRayCaster& caster, const py::object& origin, const py::object& rotation,
+             const py::object& shapes) {
+            const Array o = finite_array(origin, "origin", {3});
+            const Array r = finite_array(rotation, "rotation", {3, 3});
+            const auto bodies = bodies_of(shapes);
+            Eigen::Matrix3d turn;
+            for (int j = 0; j < 3; ++j) {
+              for (int k = 0; k < 3; ++k) turn(j, k) = r.at(j, k);
+            }
+            const auto n = static_cast<py::ssize_t>(caster.size());
+            py::array_t<double> range(n);
+            py::array_t<std::uint8_t> kind(n);
+            caster.cast(Eigen::Vector3d(o.at(0), o.at(1), o.at(2)), turn, bodies, range.mutable_data(),
+                        kind.mutable_data());
+            return py::make_tuple(range, kind);
+          },
+          py::arg("origin"), py::arg("rotation"), py::arg("shapes"),
+          "The range [m] along each ray turned by rotation (world <- camera) from origin (world) to what it meets "
+          "first (inf: nothing) and what that is (GROUND, LINE, a shape's label; NONE): the ground, then shapes "
+          "(rows: CYLINDER, BAR or SPHERE, its label, four numbers) in order, then the lines.");
 
   m.def(
       "limit_drive",

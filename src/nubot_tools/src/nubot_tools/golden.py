@@ -37,7 +37,9 @@ from its start must step the same way.
 
 ``python -m nubot_tools.golden cameras --out FILE`` records the front cameras' cylinders and the RGB-D cameras' ray
 casts while every robot's cameras render the match a few times a second, then over seeded scenes that show what the
-matches do not (tops seen from above; ``record_cameras``).
+matches do not (tops seen from above; ``record_cameras``). ``sim_visual/test/golden/cameras.npz`` was recorded so
+from the Python implementation (numpy), which the compiled ``paint_cylinder`` and ``RgbdRayCaster``
+(``sim_visual/cpp/cameras.cpp``) replaced; the recorder now records those through the same methods.
 
 The file is numpy's compressed ``.npz`` (``world``: JSON lines, xz-compressed).
 """
@@ -554,11 +556,12 @@ def record_cameras(seeds: list[int], seconds: float, period: float = 0.3, cylind
         posed.append(pose(self, mount, me))
         return posed[-1]
 
-    def recorded_cast(self: Any, o: np.ndarray, d: np.ndarray, bodies: list[tuple]) -> tuple[np.ndarray, np.ndarray]:
-        rng_t, kind = cast(self, o, d, bodies)
-        origin, rotation = posed.pop()
-        if not (np.array_equal(origin, o) and np.array_equal(self.rays @ rotation.T, d)):
-            raise RuntimeError("golden cameras: a cast's rays are not the camera's rays rotated")
+    def recorded_cast(self: Any, o: np.ndarray, rotation: np.ndarray,
+                      bodies: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        rng_t, kind = cast(self, o, rotation, bodies)
+        origin, turn = posed.pop()
+        if not (np.array_equal(origin, o) and np.array_equal(turn, rotation)):
+            raise RuntimeError("golden cameras: a cast is not from the camera's pose")
         casts.append(np.concatenate([o, rotation.reshape(-1)]))
         shapes.append(np.array(bodies, dtype=float).reshape(-1, 6))
         kinds.append(kind.reshape(-1, 1))

@@ -2,6 +2,8 @@
 from collections.abc import Sequence
 from typing import Any
 
+import numpy as np
+
 _Vec3 = tuple[float, float, float]
 
 _Vel = tuple[float, float, float]
@@ -30,6 +32,15 @@ def dribble_condition(x: float, y: float, theta: float, bx: float, by: float, bz
 
 def held_ball(x: float, y: float, theta: float, vx: float, vy: float, w: float,
               hold_distance: float) -> tuple[float, float, float, float]: ...
+
+def paint_cylinder(image: np.ndarray, rays: np.ndarray, box: tuple[int, int, int, int], origin: Any,
+                   geometry: Sequence[float], side_rgb: Sequence[int] | np.ndarray,
+                   top_rgb: Sequence[int] | np.ndarray) -> None: ...
+
+class RgbdRayCaster:
+    def __init__(self, rays: Any, segments: Any, arcs: Any, line_half_width: float, max_range: float) -> None: ...
+    def __len__(self) -> int: ...
+    def cast(self, origin: Any, rotation: Any, shapes: Any) -> tuple[np.ndarray, np.ndarray]: ...
 
 class Surface:
     def __init__(self, mu: float, bounce: float, pair: int) -> None: ...

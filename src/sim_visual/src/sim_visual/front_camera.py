@@ -20,8 +20,9 @@ camera looks past it), shadows, motion blur, lens blur, vignetting.
 How, for speed (about 1 ms a frame at 320 x 240 with the ball in view, one core): each pixel's ray (distortion
 removed) and its ground point in the body frame are computed once; a frame is one ``cv2.transform`` of the
 ground points by the viewer's pose and one ``cv2.remap`` of the field texture; bodies are drawn far to near
-inside their projected bounding boxes only; noise is random bytes from ``rng`` through a table of normal
-quantiles (as the omni camera's).
+inside their projected bounding boxes only, the cylinders pixel by pixel by the compiled ``paint_cylinder``
+(``cpp/cameras.cpp``); noise is random bytes from ``rng`` through a table of normal quantiles (as the omni
+camera's).
 """
 
 from __future__ import annotations
@@ -29,15 +30,22 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import cv2
 import numpy as np
 
+from nubot_common.kernels import load_kernels
 from nubot_common.world_description import WorldDescription
 from sim_visual.camera_params import RGB, OmniCameraParams
 from sim_visual.front_camera_params import FrontCameraParams
 from sim_visual.omni_camera import FieldTexture, _noise_table
 from sim_visual.world import BallState, RobotState
+
+if TYPE_CHECKING:
+    from sim_visual import _kernels  # its interface: _kernels.pyi
+else:
+    _kernels = load_kernels("sim_visual")
 
 _BOX_PAD = 2  # [px] around a body's projected bounding box
 _MIN_DEPTH = 0.02  # [m] a body's box corner nearer the lens plane than this: the box is the whole image
@@ -211,26 +219,7 @@ class FrontCameraRenderer:
                         geometry: tuple[float, float, float, float], side_rgb: np.ndarray,
                         top_rgb: np.ndarray) -> None:
         """Paints the pixels of ``box`` whose rays meet the cylinder's side (``side_rgb``) or, nearer, its top."""
-        cx, cy, height, radius = geometry
-        o = self._origin
-        u0, v0, u1, v1 = box
-        rays = self._rays[v0:v1, u0:u1].astype(np.float64)
-        dx, dy, dz = rays[..., 0], rays[..., 1], rays[..., 2]
-        ox, oy = o[0] - cx, o[1] - cy
-        a = dx * dx + dy * dy
-        b = 2.0 * (ox * dx + oy * dy)
-        c = ox * ox + oy * oy - radius * radius
-        disc = b * b - 4.0 * a * c
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t_side = (-b - np.sqrt(np.maximum(disc, 0.0))) / (2.0 * a)
-            z_side = o[2] + t_side * dz
-            side = (disc >= 0.0) & (t_side > 0.0) & (z_side >= 0.0) & (z_side <= height)
-            t_top = (height - o[2]) / dz
-            top = (t_top > 0.0) & ((ox + t_top * dx) ** 2 + (oy + t_top * dy) ** 2 <= radius * radius)
-        top &= ~side | (t_top < t_side)
-        crop = image[v0:v1, u0:u1]
-        crop[side] = side_rgb
-        crop[top] = top_rgb
+        _kernels.paint_cylinder(image, self._rays, box, self._origin, geometry, side_rgb, top_rgb)
 
     def _finish(self, image: np.ndarray, t: float, rng: np.random.Generator) -> np.ndarray:
         light = self.scene.time_lighting(t)

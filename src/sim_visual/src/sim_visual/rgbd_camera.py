@@ -10,7 +10,8 @@ there is no return) and its colours (height x width x 3 uint8 RGB).
 What is drawn: the ground (green carpet, white lines), the ball (an orange sphere, on the ground or in the air),
 the other robots (dark cylinders of the world's robot body) and the goals' posts and bars (white). Nets,
 arena walls and the own body are not drawn (no return). Ray casting uses rays precomputed per pixel (a pinhole
-grid) and rotated per frame, so a frame costs a few array operations per object over all pixels.
+grid), turned and cast against the ground, its lines and the bodies in one compiled call a frame
+(``RgbdRayCaster``, ``cpp/cameras.cpp``).
 
 The sensor: range limits on the depth along the optical axis (Kinect 2: 0.5-8 m); range noise along each ray
 with standard deviation ``depth_noise_constant + depth_noise_quadratic * depth^2`` (a few mm at 1 m, 2 cm at
@@ -29,17 +30,24 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from dataclasses import field as dc_field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from kinect_ball.mount import CAMERAS, GOALIE_MOUNTS, CameraMount, RgbdMounts
+from nubot_common.kernels import load_kernels
 from nubot_common.params import require_non_negative, require_positive
 from nubot_common.world_description import WorldDescription
 from sim_visual.camera_params import RGB
 from sim_visual.world import BallState, RobotState
 
+if TYPE_CHECKING:
+    from sim_visual import _kernels  # its interface: _kernels.pyi
+else:
+    _kernels = load_kernels("sim_visual")
+
 NONE, GROUND, LINE, BALL, ROBOT, GOAL = range(6)  # what a pixel's ray hit first
-CYLINDER, BAR, SPHERE = range(3)  # the bodies' shapes, for RgbdCameraRenderer.cast
+CYLINDER, BAR, SPHERE = range(3)  # the bodies' shapes, for RgbdCameraRenderer.cast (as cpp/cameras.cpp's)
 _FAR = 1e3  # [m] stands in for "no return" where depths are compared
 
 
@@ -109,46 +117,6 @@ def pixel_rays(params: RgbdCameraParams) -> np.ndarray:
     return rays / np.linalg.norm(rays, axis=1, keepdims=True)
 
 
-def _vertical_cylinder(o: np.ndarray, d: np.ndarray, cx: float, cy: float, r: float, top: float) -> np.ndarray:
-    """Range along each ray (inf: missed) to the side or top of an upright cylinder on the ground."""
-    ox, oy = o[0] - cx, o[1] - cy
-    a = d[:, 0] ** 2 + d[:, 1] ** 2
-    b = 2.0 * (d[:, 0] * ox + d[:, 1] * oy)
-    c = ox * ox + oy * oy - r * r
-    disc = b * b - 4.0 * a * c
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = (-b - np.sqrt(disc)) / (2.0 * a)
-        z = o[2] + t * d[:, 2]
-        t = np.where((disc >= 0.0) & (t > 0.0) & (z >= 0.0) & (z <= top), t, np.inf)
-        if o[2] > top:  # the top disc, seen from above
-            tt = (top - o[2]) / d[:, 2]
-            px, py = ox + tt * d[:, 0], oy + tt * d[:, 1]
-            t = np.minimum(t, np.where((tt > 0.0) & (px * px + py * py <= r * r), tt, np.inf))
-    return t
-
-
-def _sphere(o: np.ndarray, d: np.ndarray, centre: np.ndarray, r: float) -> np.ndarray:
-    oc = o - centre
-    b = d @ oc
-    disc = b * b - (oc @ oc - r * r)
-    with np.errstate(invalid="ignore"):
-        t = -b - np.sqrt(disc)
-    return np.where((disc >= 0.0) & (t > 0.0), t, np.inf)
-
-
-def _bar(o: np.ndarray, d: np.ndarray, x: float, z: float, r: float, half: float) -> np.ndarray:
-    """Range to a horizontal bar along y (centre line at x, z, from -half to half)."""
-    ox, oz = o[0] - x, o[2] - z
-    a = d[:, 0] ** 2 + d[:, 2] ** 2
-    b = 2.0 * (d[:, 0] * ox + d[:, 2] * oz)
-    c = ox * ox + oz * oz - r * r
-    disc = b * b - 4.0 * a * c
-    with np.errstate(invalid="ignore", divide="ignore"):
-        t = (-b - np.sqrt(disc)) / (2.0 * a)
-        y = o[1] + t * d[:, 1]
-        return np.where((disc >= 0.0) & (t > 0.0) & (np.abs(y) <= half), t, np.inf)
-
-
 class RgbdCameraRenderer:
     """Renders both cameras of a robot; built once per simulator (the rays and the field's lines)."""
 
@@ -156,8 +124,9 @@ class RgbdCameraRenderer:
         self.world, self.params = world, params
         self.rays = pixel_rays(params)
         f = world.field
-        self.segments = np.array(f.line_segments(), dtype=float)  # n x 2 x 2
-        self.arcs = f.arcs()
+        segments = np.array(f.line_segments(), dtype=float).reshape(-1, 2, 2)
+        arcs = np.array([(a.x, a.y, a.radius, a.start, a.end) for a in f.arcs()], dtype=float).reshape(-1, 5)
+        self._caster = _kernels.RgbdRayCaster(self.rays, segments, arcs, f.line_width / 2.0, params.max_range)
         self.colors = np.zeros((6, 3), dtype=float)
         for kind, rgb in ((GROUND, params.carpet_rgb), (LINE, params.line_rgb), (BALL, params.ball_rgb),
                           (ROBOT, params.robot_rgb), (GOAL, params.line_rgb)):
@@ -173,7 +142,7 @@ class RgbdCameraRenderer:
     def render_camera(self, name: str, mount: CameraMount, me: RobotState, ball: BallState,
                       others: Sequence[RobotState], t: float, rng: np.random.Generator) -> RgbdFrame:
         o, rotation = self.pose(mount, me)
-        rng_t, kind = self.cast(o, self.rays @ rotation.T, self.shapes(o, ball, others))
+        rng_t, kind = self.cast(o, rotation, self.shapes(o, ball, others))
         return self._sense(name, t, rng_t, kind, rng)
 
     def pose(self, mount: CameraMount, me: RobotState) -> tuple[np.ndarray, np.ndarray]:
@@ -182,9 +151,9 @@ class RgbdCameraRenderer:
         heading = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
         return np.array([me.x, me.y, 0.0]) + heading @ mount.offset, heading @ mount.rotation()
 
-    def shapes(self, o: np.ndarray, ball: BallState, others: Sequence[RobotState]) -> list[tuple]:
-        """The bodies within the cameras' reach of the viewpoint ``o`` [m], in the order they are cast:
-        (shape, what, four numbers): upright cylinders (CYLINDER: x, y, radius, top) for the other robots and the
+    def shapes(self, o: np.ndarray, ball: BallState, others: Sequence[RobotState]) -> np.ndarray:
+        """The bodies within the cameras' reach of the viewpoint ``o`` [m], in the order they are cast, one row
+        each (shape, what, four numbers): upright cylinders (CYLINDER: x, y, radius, top) for the other robots and the
         goal posts, the goals' bars (BAR: x, z, radius, half length along y) and the ball (SPHERE: x, y, z,
         radius)."""
         world = self.world
@@ -202,51 +171,12 @@ class RgbdCameraRenderer:
                         f.post_radius, f.goal_outer_half_width))
         if np.linalg.norm(np.array([ball.x, ball.y, ball.z]) - o) <= reach + world.ball.radius:
             out.append((SPHERE, BALL, ball.x, ball.y, ball.z, world.ball.radius))
-        return out
+        return np.array(out, dtype=float).reshape(-1, 6)
 
-    def cast(self, o: np.ndarray, d: np.ndarray, shapes: list[tuple]) -> tuple[np.ndarray, np.ndarray]:
-        """The range [m] along each world-frame ray ``d`` from ``o`` to what it meets first (inf: nothing), and
-        what that is (GROUND, LINE, ``shapes``' labels; NONE)."""
-        rng_t = np.full(len(d), np.inf)
-        kind = np.zeros(len(d), dtype=np.uint8)
-
-        def hit(t_new: np.ndarray, what: int) -> None:
-            closer = t_new < rng_t
-            rng_t[closer] = t_new[closer]
-            kind[closer] = what
-
-        with np.errstate(divide="ignore", invalid="ignore"):
-            hit(np.where(d[:, 2] < 0.0, -o[2] / d[:, 2], np.inf), GROUND)
-        for shape, what, a, b, c, e in shapes:
-            if shape == CYLINDER:
-                hit(_vertical_cylinder(o, d, a, b, c, e), what)
-            elif shape == BAR:
-                hit(_bar(o, d, a, b, c, e), what)
-            else:
-                hit(_sphere(o, d, np.array([a, b, c]), e), what)
-        self._mark_lines(o, d, rng_t, kind)
-        return rng_t, kind
-
-    def _mark_lines(self, o: np.ndarray, d: np.ndarray, rng_t: np.ndarray, kind: np.ndarray) -> None:
-        ground = np.flatnonzero((kind == GROUND) & (rng_t * self.rays[:, 0] <= self.params.max_range))
-        if len(ground) == 0:
-            return
-        gx = o[0] + rng_t[ground] * d[ground, 0]
-        gy = o[1] + rng_t[ground] * d[ground, 1]
-        half = self.world.field.line_width / 2.0
-        white = np.zeros(len(ground), dtype=bool)
-        a, b = self.segments[:, 0, :], self.segments[:, 1, :]
-        ab = b - a
-        length2 = np.maximum((ab * ab).sum(axis=1), 1e-12)
-        for k in range(len(ab)):
-            u = np.clip(((gx - a[k, 0]) * ab[k, 0] + (gy - a[k, 1]) * ab[k, 1]) / length2[k], 0.0, 1.0)
-            white |= np.hypot(gx - a[k, 0] - u * ab[k, 0], gy - a[k, 1] - u * ab[k, 1]) <= half
-        for arc in self.arcs:
-            rx, ry = gx - arc.x, gy - arc.y
-            near = np.abs(np.hypot(rx, ry) - arc.radius) <= half
-            angle = np.mod(np.arctan2(ry, rx) - arc.start, 2.0 * math.pi)
-            white |= near & (angle <= arc.end - arc.start + 1e-9)
-        kind[ground[white]] = LINE
+    def cast(self, o: np.ndarray, rotation: np.ndarray, shapes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The range [m] along each ray, turned into the world by ``rotation`` (world <- camera), from ``o`` to what
+        it meets first (inf: nothing), and what that is (GROUND, LINE, ``shapes``' labels; NONE)."""
+        return self._caster.cast(o, rotation, shapes)
 
     def _sense(self, name: str, t: float, rng_t: np.ndarray, kind: np.ndarray,
                rng: np.random.Generator) -> RgbdFrame:
