@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 
 @dataclass(frozen=True)
@@ -74,11 +75,13 @@ class FieldGeometry:
         return cls(length=22.0, width=14.0, penalty_area_length=2.25, penalty_area_width=6.9,
                    goal_area_length=0.75, goal_area_width=3.9, penalty_mark_distance=3.6)
 
-    @property
+    # The halves and the goal's outer width are read thousands of times a second: each is worked out once and kept
+    # in the (frozen) instance's __dict__, where it is found like a field.
+    @cached_property
     def half_length(self) -> float:
         return self.length / 2.0
 
-    @property
+    @cached_property
     def half_width(self) -> float:
         return self.width / 2.0
 
@@ -112,7 +115,7 @@ class FieldGeometry:
         """True when a ball centred at lateral y and height z passes wholly between the posts and under the bar."""
         return abs(y) <= self.goal_width / 2.0 - ball_radius and z <= self.goal_height - ball_radius
 
-    @property
+    @cached_property
     def goal_outer_half_width(self) -> float:
         """Half the goal's width outside its posts, where its side nets hang [m]."""
         return self.goal_width / 2.0 + 2.0 * self.post_radius

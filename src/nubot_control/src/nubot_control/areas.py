@@ -56,6 +56,8 @@ def keep_out(x: float, y: float, field: FieldGeometry, penalty_areas: bool, marg
              ) -> tuple[float, float]:
     """(x, y) moved to the nearest point out of both goal areas and, with ``penalty_areas``, out of both penalty
     areas too, ``margin`` beyond their lines."""
+    if abs(x) < field.half_length - field.penalty_area_length - margin:  # short of every area (most targets)
+        return x, y
     for own in (True, False):
         if penalty_areas:
             x, y = _push_out(x, y, field, own, False, margin)

@@ -18,6 +18,7 @@ import math
 from dataclasses import dataclass, replace
 
 from nubot_common.commands import BodyVelocity, KickCommand
+from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import OUR_SET_PLAYS, THEIR_SET_PLAYS, MatchMode
 from nubot_common.records import fast_init
@@ -75,6 +76,7 @@ class Strategy:
         self._caught_at: tuple[float, float] | None = None  # where this robot last caught the ball (team frame)
         self._caught_time = 0.0  # ... and when [s]
         self._in_area_since: dict[bool, float] = {}  # own (True) / the opponents' (False) penalty area: inside since
+        self._no_go_areas: tuple[FieldGeometry, list[Rect], list[Rect]] | None = None  # (field, penalty, goal areas)
         body = world.robot
         m = params.motion
         self.chances = ChanceParams(kick_direction_std=math.radians(params.play.kick_spread),
@@ -133,7 +135,10 @@ class Strategy:
         return math.hypot(state.ball.x - self._caught_at[0], state.ball.y - self._caught_at[1])
 
     def _track_areas(self, state: TeamState) -> None:
-        me = state.me.pose
+        me, field = state.me.pose, state.field
+        if abs(me.x) < field.half_length - field.penalty_area_length:  # short of both penalty areas
+            self._in_area_since.clear()
+            return
         for own in (True, False):
             if in_area(me.x, me.y, state.field, own):
                 self._in_area_since.setdefault(own, state.time)
@@ -145,15 +150,18 @@ class Strategy:
         ball (and a penalty area it has been in for ``area_time``), the penalty areas for the others (``areas``)."""
         if self.agent_id == state.goalie_id:
             return []
+        penalty, goal = self._areas(state.field)
         if role not in (Role.ACTIVE, Role.PASSOFPASS):
-            return no_go(state.field, penalty_areas=True)
-        rects = no_go(state.field, penalty_areas=False)
+            return list(penalty)
         overstayed = [own for own, since in self._in_area_since.items()
                       if state.time - since > self.params.play.area_time]
-        if overstayed:
-            penalty = no_go(state.field, penalty_areas=True)  # own area first, then the opponents'
-            rects += [penalty[0 if own else 1] for own in overstayed]
-        return rects
+        return goal + [penalty[0 if own else 1] for own in overstayed]  # a new list; the penalty areas: own first
+
+    def _areas(self, field: FieldGeometry) -> tuple[list[Rect], list[Rect]]:
+        """``no_go``'s penalty areas and goal areas of ``field``, made once (read-only: copied before they go out)."""
+        if self._no_go_areas is None or self._no_go_areas[0] is not field:
+            self._no_go_areas = (field, no_go(field, penalty_areas=True), no_go(field, penalty_areas=False))
+        return self._no_go_areas[1], self._no_go_areas[2]
 
     def _within_the_rules(self, intent: bh.Intent, role: Role, state: TeamState) -> bh.Intent:
         """The intent with its target out of the areas the rules keep this robot out of (``areas``): the goalie
