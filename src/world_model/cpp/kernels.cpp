@@ -139,7 +139,7 @@ PYBIND11_MODULE(_kernels, m) {
       .def("on_teammate_strategy", &Fusion::on_teammate_strategy, py::arg("agent_id"), py::arg("stamp"))
       .def(
           "snapshot",
-          [](Fusion& self, double t) {
+          [](Fusion& self, double t, const py::object& teammate, const py::object& opponent) {
             const world_model::Snapshot s = self.snapshot(t);
             py::tuple robots(s.robots.size()), mate_ball(s.mate_ball.size());
             for (std::size_t i = 0; i < s.robots.size(); ++i) {
@@ -156,14 +156,16 @@ PYBIND11_MODULE(_kernels, m) {
             for (std::size_t i = 0; i < s.obstacles.size(); ++i) {
               const Labelled& o = s.obstacles[i];
               const Point v = i < s.velocities.size() ? s.velocities[i] : Point{0.0, 0.0};
-              obstacles[i] = py::make_tuple(o.x, o.y, o.teammate, o.observer, o.angle, o.radius, v[0], v[1]);
+              obstacles[i] = py::make_tuple(o.x, o.y, o.teammate ? teammate : opponent, o.teammate, o.observer, o.angle,
+                                            o.radius, v[0], v[1]);
             }
             return py::make_tuple(robots, ball_tuple(s.own), mate_ball, ball, obstacles);
           },
-          py::arg("t"),
+          py::arg("t"), py::arg("teammate"), py::arg("opponent"),
           "The fused world at t: (robots ((valid, age [s]) by AgentID), this robot's own ball (stamp, x, y, vx, vy, "
           "known) or None, whether each teammate's own ball counts, the fused ball (FusedBall's fields, source and "
-          "sensor as numbers), the obstacles (x, y, teammate (0: an opponent), observer, bearing, distance, vx, vy)).")
+          "sensor as numbers), the obstacles (x, y, label (teammate or opponent, the objects given), teammate "
+          "(0: an opponent), observer, bearing, distance, vx, vy): LabelledObstacle's fields).")
       .def(
           "own_view",
           [](const Fusion& self, double t) -> py::object {

@@ -1,6 +1,8 @@
 # The compiled kernels' Python interface (cpp/kernels.cpp), for type checkers.
 from collections.abc import Sequence
 
+from nubot_common.world_state import ObstacleLabel
+
 Point = tuple[float, float]
 
 class ObstacleTracker:
@@ -16,6 +18,7 @@ def label_obstacles(mx: float, my: float, mtheta: float, agent_id: int, own: Seq
                     merge_radius: float) -> list[tuple[float, float, int, int, float, float]]: ...
 
 _Ball = tuple[float, float, float, float, float, bool]
+_Label = ObstacleLabel
 
 class Fusion:
     def __init__(self, params: object, agent_id: int, half_length: float, half_width: float, border: float,
@@ -29,10 +32,11 @@ class Fusion:
     def on_teammate(self, t: float, agent_id: int, stamp: float, x: float, y: float, theta: float, valid: bool,
                     ball: _Ball | None, obstacles: Sequence[Point]) -> tuple[float, bool] | None: ...
     def on_teammate_strategy(self, agent_id: int, stamp: float) -> None: ...
-    def snapshot(self, t: float) -> tuple[tuple[tuple[bool, float], ...], _Ball | None, tuple[bool, ...],
-                                           tuple[float, float, float, float, bool, bool, float, tuple[int, ...], int,
-                                                 int, float, float, float, int],
-                                           list[tuple[float, float, int, int, float, float, float, float]]]: ...
+    def snapshot(self, t: float, teammate: _Label, opponent: _Label
+                 ) -> tuple[tuple[tuple[bool, float], ...], _Ball | None, tuple[bool, ...],
+                            tuple[float, float, float, float, bool, bool, float, tuple[int, ...], int, int, float,
+                                  float, float, int],
+                            list[tuple[float, float, _Label, int, int, float, float, float, float]]]: ...
     def own_view(self, t: float) -> tuple[bool, _Ball | None, tuple[Point, ...]] | None: ...
 
 def fit_velocity(samples: Sequence[tuple[float, float, float]], min_samples: int) -> tuple[float, float] | None: ...

@@ -33,9 +33,11 @@ labels); this class keeps the records it was given (reports, balls, strategies, 
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 from nubot_common.kernels import load_kernels
 from nubot_common.percepts import Ball3dPercept, BallPercept, RobotReport, RobotView
@@ -65,6 +67,10 @@ else:
 _SOURCES = {int(s): s for s in BallSource}
 _SENSORS = {int(s): s for s in BallSensor}
 _BallRow = tuple[float, float, float, float, float, bool]  # a ball the core decided: stamp, x, y, vx, vy, known
+# A row of the core's obstacles (LabelledObstacle's fields in order) as the named tuple, without its field-by-field
+# __new__: a dozen every cycle
+_labelled_obstacle = cast(Callable[[tuple], LabelledObstacle], functools.partial(tuple.__new__, LabelledObstacle))
+_TEAMMATE, _OPPONENT = ObstacleLabel.TEAMMATE, ObstacleLabel.OPPONENT
 
 
 def _ball_row(ball: BallPercept | None) -> _BallRow | None:
@@ -239,7 +245,7 @@ class WorldModel:
     def snapshot(self, t: float) -> WorldState:
         """The fused world model at ``t`` (also remembers the last fused ball position)."""
         self._note_time(t)
-        states, own, mate_balls, fused, labelled = self._core.snapshot(t)
+        states, own, mate_balls, fused, labelled = self._core.snapshot(t, _TEAMMATE, _OPPONENT)
         me, mates = self.agent_id, self._mates
         robots = tuple(Teammate(aid, valid, age, self._own_report() if aid == me else
                                 (mates[aid].robot if aid in mates else None))
@@ -250,10 +256,7 @@ class WorldModel:
         x, y, vx, vy, known, moving, confidence, seen_by, source, source_id, stamp, angle, radius, sensor = fused
         ball = FusedBall(x, y, vx, vy, known, moving, confidence, seen_by, _SOURCES[source], source_id, stamp, angle,
                          radius, _SENSORS[sensor])
-        teammate, opponent = ObstacleLabel.TEAMMATE, ObstacleLabel.OPPONENT
-        obstacles = tuple(LabelledObstacle(ox, oy, teammate if mate else opponent, mate, observer, bearing, distance,
-                                           ovx, ovy)
-                          for ox, oy, mate, observer, bearing, distance, ovx, ovy in labelled)
+        obstacles = tuple(map(_labelled_obstacle, labelled))
         strategies = [s for s in (self._strategy, *self._mate_strategies.values()) if s is not None]
         p = self.params
         pass_cmd = select_pass(me, strategies, t, p.teammate_timeout, p.team_size)
