@@ -90,6 +90,7 @@ class WorldModel:
         self._core = _kernels.Fusion(params, agent_id, field.half_length, field.half_width, field.border,
                                      self.world.ball.radius)
         self._game = GameState()
+        self._noted = math.nan  # the time last given to the core's clock (only its clock keeps time)
         self._forget()
 
     def _forget(self) -> None:
@@ -103,6 +104,9 @@ class WorldModel:
         self._made_ball: tuple[_BallRow, BallPercept] | None = None  # the core's own ball and its record
 
     def _note_time(self, t: float) -> None:
+        if t == self._noted:  # the core's clock has it already (a cycle's packets and strategies all come at t)
+            return
+        self._noted = t
         if self._core.note_time(t):  # the clock went back (a restarted simulation): everything is forgotten
             self._forget()
 
