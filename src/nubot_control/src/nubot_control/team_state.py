@@ -18,7 +18,7 @@ from nubot_common.match_mode import MatchMode
 from nubot_common.percepts import RobotReport
 from nubot_common.records import fast_init
 from nubot_common.team_play import PassCommand, Point
-from nubot_common.world_state import BallFlight, FusedBall, WorldState
+from nubot_common.world_state import BallFlight, FusedBall, ObstacleLabel, WorldState
 
 MAX_PREDICTION = 0.3  # [s] a teammate is moved on by at most this (the world model's teammate_timeout)
 
@@ -60,10 +60,12 @@ def team_state(world: WorldState, time: float, goalie_id: int, field: FieldGeome
     if not me.valid or me.report is None:
         return None
     since = max(0.0, time - world.stamp)  # the world model's decision is this old; each packet older by its age
-    mates = tuple(r.report.moved_on(min(r.age + since, MAX_PREDICTION)) for r in world.teammates
-                  if r.valid and r.report is not None)
+    aid = world.agent_id
+    mates = tuple(r.report.moved_on(min(r.age + since, MAX_PREDICTION)) for r in world.robots
+                  if r.agent_id != aid and r.valid and r.report is not None)
     ahead = min(since, MAX_PREDICTION)
-    opponents = tuple((o.x + o.vx * ahead, o.y + o.vy * ahead) for o in world.opponents)
+    opponent = ObstacleLabel.OPPONENT
+    opponents = tuple((o.x + o.vx * ahead, o.y + o.vy * ahead) for o in world.obstacles if o.label is opponent)
     game = world.game
     return TeamState(time, me.report, mates, world.ball, opponents, field,
                      game.mode, game.previous, game.since, world.pass_cmd, goalie_id, world.flight)

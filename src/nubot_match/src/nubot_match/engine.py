@@ -214,11 +214,15 @@ class LockstepMatch:
     def _control_cycle(self, t: float, due: set[float], actions: Mapping[str, RobotCommand],
                        out: MatchStep) -> None:
         names = [n for n in self.agents if self.control_period[n] in due]
+        heard: dict[str, tuple[list[RobotView], list[StrategyReport]]] = {}  # each team's, the same for all its robots
         for name in names:  # the team link: what every teammate shared up to the previous cycle (own: ignored)
             team, agent = self.team_of[name], self.agents[name]
-            for packet in self.packets[team].collect(t):
+            if team not in heard:
+                heard[team] = self.packets[team].collect(t), self.strategies[team].collect(t)
+            packets, reports = heard[team]
+            for packet in packets:
                 agent.on_teammate(t, packet)
-            for report in self.strategies[team].collect(t):
+            for report in reports:
                 agent.on_teammate_strategy(t, report)
         for name in names:
             step = self.agents[name].step(t)
