@@ -423,6 +423,7 @@ PYBIND11_MODULE(_kernels, m) {
       .def("set_ball_holder", &Physics::set_ball_holder, py::arg("robot"))
       .def("step", &Physics::step, py::arg("dt"))
       .def("step_seconds", &Physics::step_seconds)
+      .def("solver_errors", &Physics::solver_errors)
       .def(
           "set_base_params",
           [](Physics& p, double timeout, int stuck_every, double min_command, double filter_time, double stuck_time,

@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
 #include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -32,6 +35,37 @@ dContact make_contact(const dContactGeom& geom, const Surface& surface, double b
 
 double yaw_of(const dReal* q) {  // ODE's order: w, x, y, z
   return std::atan2(2.0 * (q[0] * q[3] + q[1] * q[2]), 1.0 - 2.0 * (q[2] * q[2] + q[3] * q[3]));
+}
+
+// A robot's contacts with one other robot or static body as one: at their mean point, along the deepest one's normal,
+// as deep. An upright cylinder meets a box's face or another cylinder along a vertical line, which ODE gives as its
+// two ends with one normal; two such contacts are one constraint twice, and a robot pressed between another robot
+// and a wall (or into a net's corner) made a system ODE's exact solver could not factor ("LCP internal error").
+// Robots are kept upright on the carpet, so the one contact stops them as the two did.
+int merge_contacts(dContactGeom* found, int n) {
+  dContactGeom merged = found[0];
+  for (int i = 1; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) merged.pos[k] += found[i].pos[k];
+    if (found[i].depth > merged.depth) {
+      merged.depth = found[i].depth;
+      for (int k = 0; k < 3; ++k) merged.normal[k] = found[i].normal[k];
+    }
+  }
+  for (int k = 0; k < 3; ++k) merged.pos[k] /= n;
+  found[0] = merged;
+  return 1;
+}
+
+// The world whose step is running on this thread (ODE's messages carry no world).
+thread_local Physics* stepping = nullptr;
+
+// ODE's messages, printed as its own handler prints them; an "LCP internal error" in a step is counted by the world
+// that was stepping.
+void on_ode_message(int number, const char* format, va_list args) {
+  char text[512];
+  std::vsnprintf(text, sizeof text, format, args);
+  if (stepping != nullptr && std::strstr(text, "LCP internal error") != nullptr) stepping->note_solver_error();
+  std::fprintf(stderr, "ODE Message %d: %s\n", number, text);
 }
 
 void check_kind(int kind) {
@@ -82,6 +116,7 @@ void update_stuck(StuckState& state, double command_vx, double command_vy, doubl
 
 Physics::Physics(double gravity, double erp, double cfm, const BallParams& ball) : ball_params_(ball) {
   dInitODE2(0);
+  dSetMessageHandler(on_ode_message);
   world_ = dWorldCreate();
   dWorldSetGravity(world_, 0.0, 0.0, gravity);
   dWorldSetERP(world_, erp);
@@ -363,7 +398,9 @@ std::vector<int> Physics::step(double dt) {
   touched_.clear();
   ball_in_net_ = false;
   dSpaceCollide(space_, this, &Physics::near_callback);
+  stepping = this;
   dWorldStep(world_, dt);  // the exact solver: quickStep reorders constraints with a process-global RNG
+  stepping = nullptr;
   dJointGroupEmpty(contacts_);
   if (ball_in_net_) absorb_in_net();
   apply_rolling_resistance(dt);
@@ -417,8 +454,9 @@ void Physics::near(dGeomID a, dGeomID b) {
     if (robot == holder_) return;
   }
   dContactGeom found[kMaxContacts];
-  const int n = dCollide(a, b, kMaxContacts, found, sizeof(dContactGeom));
+  int n = dCollide(a, b, kMaxContacts, found, sizeof(dContactGeom));
   if (n <= 0) return;
+  if (n > 1 && info_a.kind != kBall && info_b.kind != kBall) n = merge_contacts(found, n);
   for (int i = 0; i < n; ++i) {
     const dContact contact = make_contact(found[i], surface, ball_params_.bounce_min_speed);
     const dJointID joint = dJointCreateContact(world_, contacts_, &contact);

@@ -167,6 +167,10 @@ class Physics {
   std::vector<int> step(double dt);
   // The wall time [s] spent in step since the world was made: ODE's own part of the simulator's work.
   double step_seconds() const { return step_seconds_; }
+  // The steps since the world was made in which ODE's solver reported "LCP internal error" (a contact problem it
+  // could not solve exactly; ODE prints the message and goes on with what it had).
+  long solver_errors() const { return solver_errors_; }
+  void note_solver_error() { ++solver_errors_; }
 
   // What one step of the simulator did to the ball: the robots that touched it (step), whether the holder's grip
   // lost it before the step, the robot that took it after the step (-1: none).
@@ -223,6 +227,7 @@ class Physics {
   int holder_ = -1;
   HandlerParams handler_{};
   double step_seconds_ = 0.0;
+  long solver_errors_ = 0;
   BaseParams base_params_{};
   bool base_params_set_ = false;
   double goal_line_ = std::numeric_limits<double>::infinity();

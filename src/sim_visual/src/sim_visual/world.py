@@ -138,6 +138,14 @@ class PhysicsWorld:
             self._static_box("wall", (0.2, 2 * ay + 0.4, _WALL_HEIGHT), (sx * (ax + 0.1), 0.0, _WALL_HEIGHT / 2))
         for sy in (-1, 1):
             self._static_box("wall", (2 * ax + 0.4, 0.2, _WALL_HEIGHT), (0.0, sy * (ay + 0.1), _WALL_HEIGHT / 2))
+        # Where a goal's back net stands short of the wall by less than a robot's width, the gap is filled (net, as
+        # what is behind a net to a ball that meets it): a robot driven in wedged between the nets' corner and the wall.
+        back = f.half_length + f.goal_depth + _NET_THICKNESS
+        gap = ax - back
+        if 0.0 < gap < 2.0 * self.robot_body.radius:
+            for side in (-1, 1):
+                self._static_box("net", (gap, 2 * (f.goal_outer_half_width + _NET_THICKNESS), f.goal_height),
+                                 (side * (back + gap / 2.0), 0.0, f.goal_height / 2.0))
 
     # --- robots ---------------------------------------------------------------------
     @property
@@ -360,6 +368,12 @@ class PhysicsWorld:
         """The wall time [s] ODE's own part of the steps took since the world was made (``step``, also inside
         ``advance``)."""
         return self._core.step_seconds()
+
+    @property
+    def solver_errors(self) -> int:
+        """The steps since the world was made in which ODE's solver reported "LCP internal error" (it could not solve
+        the step's contacts exactly; the message goes to stderr as ODE prints it, and the step goes on)."""
+        return self._core.solver_errors()
 
     def _surface_table(self) -> dict[tuple[str, str], tuple[float, float, int]]:
         """By the kinds of two geometries (both orders): the friction coefficient and restitution of their

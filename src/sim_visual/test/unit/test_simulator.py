@@ -1,8 +1,10 @@
 """Unit tests of the simulator core: locomotion, dribbling, kicking, goals, physics, reset."""
 
+import itertools
 import math
 from dataclasses import astuple
 
+import numpy as np
 import pytest
 
 from nubot_common.commands import BodyVelocity, KickCommand, KickKind, RobotCommand
@@ -435,3 +437,42 @@ def test_only_pairs_that_can_touch_reach_the_collision_callback(make_sim, run):
     assert kinds, "robots, ball and carpet still meet"
     assert all("ball" in pair or "robot" in pair for pair in kinds), "no static geometry against itself"
     assert frozenset(("ground", "robot")) not in kinds, "robots glide above the carpet"
+
+
+
+@pytest.mark.parametrize("start", [(9.3, 1.6, -math.pi / 2), (-9.3, -2.2, math.pi / 2)])
+def test_a_robot_pressed_into_the_corner_of_a_goal_s_nets_leaves_the_solver_nothing_it_cannot_solve(make_sim, start):
+    """Beside a goal and behind its line, pressed towards the wall: ODE's exact solver printed 'LCP internal error'
+    a step after another where the robot wedged between the nets' corner and the wall."""
+    sim = make_sim(robots=(("nubot1", *start),))
+    for step in range(600):
+        if step % 6 == 0:
+            sim.command_velocity("nubot1", 3.0, 0.5, 0.0)
+        sim.step()
+    assert sim.world.solver_errors == 0
+
+
+def test_ten_robots_jostling_at_full_speed_by_the_goals_and_walls_leave_the_solver_nothing_it_cannot_solve(make_sim):
+    """Robots pressed into each other against the nets, the posts and the walls, turning (seeded): the contacts of a
+    robot with another body came as two with one normal, and ODE's solver failed on them ('LCP internal error', 32
+    times in these 5 s)."""
+    rng = np.random.default_rng(0)
+    names = [f"nubot{i}" for i in range(1, 6)] + [f"rival{i}" for i in range(1, 6)]
+    starts = [(rng.uniform(7.5, 9.5) * rng.choice([-1, 1]), rng.uniform(-6.5, 6.5)) for _ in names]
+    sim = make_sim(robots=[(n, x, y, rng.uniform(-3, 3), 1 if n.startswith("n") else -1)
+                           for n, (x, y) in zip(names, starts)], ball=(8.0, 0.5))
+    targets = {n: (rng.uniform(8.5, 10.5) * np.sign(x), rng.uniform(-7, 7)) for n, (x, _) in zip(names, starts)}
+    for step in range(1000):
+        if step % 6 == 0:
+            for n in names:
+                s = sim.world.robot_state(n)
+                if step % 600 == 0:
+                    targets[n] = (rng.uniform(8.0, 10.5) * rng.choice([-1, 1]), rng.uniform(-7, 7))
+                dx, dy = targets[n][0] - s.x, targets[n][1] - s.y
+                c, sn, k = math.cos(-s.theta), math.sin(-s.theta), 5.0 / max(math.hypot(dx, dy), 1e-6)
+                sim.command_velocity(n, (c * dx - sn * dy) * k, (sn * dx + c * dy) * k, rng.uniform(-5, 5))
+        sim.step()
+    assert sim.world.solver_errors == 0
+    for a, b in itertools.combinations(names, 2):  # and the robots still do not overlap
+        sa, sb = sim.world.robot_state(a), sim.world.robot_state(b)
+        assert math.hypot(sa.x - sb.x, sa.y - sb.y) > 2 * sim.config.robot.radius - 0.05, (a, b)
