@@ -126,7 +126,7 @@ def play_match(job: MatchJob) -> MatchResult:
                        team_figures(summary, shots, home_team.config.prefix),
                        team_figures(summary, shots, away_team.config.prefix), round(match.time, 3), round(wall, 3),
                        round(rss, 1), len(summary.referee_events), job.index // 2, match_counts(summary, shots),
-                       shots.to_json()["goals"])
+                       shots.to_json()["goals"], match.sim.world.solver_errors if match.sim is not None else 0)
 
 
 def _quiet_worker() -> None:
@@ -288,6 +288,7 @@ class Evaluation:
                 "throughput": {"wall_seconds": round(wall, 1), "sim_seconds": round(sim, 1),
                                "sim_seconds_per_wall_second": round(sim / wall, 2) if wall > 0 else None,
                                "rss_mib_max": max((r.rss_mib for r in results), default=None)},
+                "solver_errors": sum(r.solver_errors for r in results),  # the physics' "LCP internal error"s
                 "matches": [r.to_json() for r in results]}
         _atomic_write(self.out / "results.json", json.dumps(data, indent=2) + "\n")
 

@@ -55,6 +55,7 @@ class MatchResult:
     pair: int = -1  # the two matches each way round share a pair (-1: the match is a pair of its own)
     match: dict[str, float] = field(default_factory=dict)  # MATCH_COUNTS, fouls_<kind>, goals_<cause>
     goals: list[dict] = field(default_factory=list)  # each goal explained (``match_shots.ShotReport.to_json``)
+    solver_errors: int = 0  # "LCP internal error"s of the physics' solver in the match (``PhysicsWorld.solver_errors``)
 
     @property
     def unit(self) -> int:

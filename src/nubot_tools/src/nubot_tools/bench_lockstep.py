@@ -14,8 +14,9 @@ line); a table on stdout. Parts (``--only``, comma-separated; default all):
   and the world models' vision updates and other inputs (3-D ball, teammates, coach); the rest is the engine
   (schedule, relay, referee). What the target leaves the robots: the speed if their software (cycles and
   inputs) cost nothing, and the time an agent cycle may take at the target beside everything else as
-  measured (negative: the rest alone is too slow); the plot marks the first on each lockstep bar.
-  Target: 50x real time.
+  measured (negative: the rest alone is too slow); the plot marks the first on each lockstep bar; how often ODE's
+  solver reported "LCP internal error" in the match (``PhysicsWorld.solver_errors``; so does the ``evaluate`` part,
+  over its matches). Target: 50x real time.
 - ``physics``: a ``Simulator`` with the 10 robots (the match's start poses) and the ball, robots driven
   to places on a ring of radius ``RING`` about a point wandering near the centre spot, with varying
   velocity commands at 33 Hz (so neighbours jostle and push the ball): physics steps per second on one
@@ -224,6 +225,7 @@ def lockstep_case(tracker: str, d: Durations, cpu: int | None, listeners: Sequen
         "us_per_physics_step": _us(physics.seconds, physics.calls),
         "us_per_physics_step_ode": _us(ode_seconds, physics.calls),
         "physics_step_over_ode_part": _r(physics.seconds / ode_seconds) if ode_seconds > 0 else None,
+        "solver_errors": sim.world.solver_errors,  # ODE's "LCP internal error"s in the whole match played
         "target_physics_step_over_ode_part": TARGET_PHYSICS_OVER_ODE,
         # The machine's speed drifts between runs (up to 40 % here); this ratio of two times of one run does not.
         "agent_cycle_in_physics_steps": _r(agent_seconds / agent_calls / (physics.seconds / physics.calls))
@@ -515,7 +517,8 @@ def bench_evaluate(d: Durations) -> dict:
                                        data["throughput"]["sim_seconds_per_wall_second"],
                                    "match_wall_seconds_mean": _r(sum(m["wall_seconds"] for m in data["matches"])
                                                                  / max(len(data["matches"]), 1)),
-                                   "rss_mib_max": data["throughput"]["rss_mib_max"]}
+                                   "rss_mib_max": data["throughput"]["rss_mib_max"],
+                                   "solver_errors": data["solver_errors"]}
     one, two = runs["jobs1"]["sim_seconds_per_wall_second"], runs["jobs2"]["sim_seconds_per_wall_second"]
     return {"matches": d.evaluate_matches, "match": f"{d.evaluate_halves} x {d.evaluate_half:g} s", **runs,
             "speedup_jobs2_over_jobs1": _r(two / one, 3) if one > 0 else None,
@@ -610,7 +613,8 @@ def table(results: dict) -> str:
                      f"(an agent cycle costs {case['agent_cycle_in_physics_steps']} physics steps), "
                      f"cpu share {case['cpu_share']}")
         lines.append(f"  a physics step is {case['physics_step_over_ode_part']} x its ODE part "
-                     f"({case['us_per_physics_step_ode']} us; target {TARGET_PHYSICS_OVER_ODE})")
+                     f"({case['us_per_physics_step_ode']} us; target {TARGET_PHYSICS_OVER_ODE}); ODE's solver reported "
+                     f"'LCP internal error' {case['solver_errors']} times")
         lines.append(f"  with robots that cost nothing {case['sim_seconds_per_wall_second_without_agents']}x; at "
                      f"{TARGET_REAL_TIME_FACTOR:.0f}x the rest leaves {case['us_per_agent_cycle_budget_at_target']} "
                      f"us per agent cycle")
@@ -628,8 +632,10 @@ def table(results: dict) -> str:
                      f"{TARGET_MEMORY_MIB:.0f}); while playing, after the first minute: "
                      f"{memory['rss_mib_playing_after_first_minute']} MiB")
     if "evaluate" in results:
-        lines.append(f"evaluate: --jobs 2 / --jobs 1 = {results['evaluate']['speedup_jobs2_over_jobs1']} "
-                     f"(target {TARGET_EVALUATE_SPEEDUP})")
+        evaluate = results["evaluate"]
+        lines.append(f"evaluate: --jobs 2 / --jobs 1 = {evaluate['speedup_jobs2_over_jobs1']} "
+                     f"(target {TARGET_EVALUATE_SPEEDUP}); 'LCP internal error' in its matches: "
+                     f"{evaluate['jobs1']['solver_errors']} and {evaluate['jobs2']['solver_errors']}")
     return "\n".join(lines)
 
 
