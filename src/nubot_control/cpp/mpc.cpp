@@ -1,7 +1,9 @@
 // The Laguerre MPC's compiled core: see include/nubot_control/mpc.hpp and nubot_control/mpc.py.
 #include "nubot_control/mpc.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <vector>
 
@@ -9,6 +11,7 @@
 
 extern "C" {
 #include <api.h>  // DAQP
+#include <utils.h>
 }
 
 namespace nubot_control {
@@ -76,6 +79,115 @@ double limit(std::optional<double> value, double most, const char* name) {
 }
 
 }  // namespace
+
+// DAQP's workspace for the QPs of one tracker, whose Hessian H and rows A never change: H's Cholesky factor R, R^-1
+// and the normalised M = A R^-1 are formed once, and each QP brings only its gradient f and bounds. Every answer is
+// daqp_quadprog's to the last bit. That one-shot solve tests the unconstrained optimum with R itself, by triangular
+// solves (it inverts R only when a constrained solve needs R^-1), and keeps that test's v = R^-T f and d = b - A x
+// for the solve; DAQP's update of a workspace holding R^-1 would form them by products with R^-1, which round
+// differently. So the workspace keeps R too and runs DAQP's own test on it; then it solves from an empty working
+// set, as the one-shot solve does. A QP whose setup takes another way (R inverted at once or regularised, a zero
+// row, bounds that meet or cross) is left to daqp_quadprog.
+class LaguerreMpc::QpSolver {
+ public:
+  QpSolver(const DAQPProblem& qp, int iterations);
+  ~QpSolver() { release(); }
+  QpSolver(const QpSolver&) = delete;
+  QpSolver& operator=(const QpSolver&) = delete;
+
+  // DAQP's exit flag for qp (H and A those of the setup); x and the multipliers as daqp_quadprog gives them.
+  int solve(const DAQPProblem& qp, double* x, double* lam);
+
+ private:
+  int solve_once(const DAQPProblem& qp, double* x, double* lam);
+  void release();
+
+  DAQPSettings settings_{};
+  DAQPWorkspace work_{};
+  DAQPProblem qp_{};            // the QP being solved (the workspace points to it)
+  std::vector<c_float> factor_;  // R, packed by rows with the reciprocal diagonal (DAQP's layout)
+  bool allocated_ = false;
+  bool kept_ = false;            // the workspace holds the LDP of H and A; else daqp_quadprog solves each QP
+};
+
+LaguerreMpc::QpSolver::QpSolver(const DAQPProblem& qp, int iterations)
+    : factor_(static_cast<std::size_t>(qp.n) * (qp.n + 1) / 2) {
+  daqp_default_settings(&settings_);
+  settings_.iter_limit = iterations;
+  // First a QP whose unconstrained optimum (x = 0) is feasible: DAQP factors H and leaves R uninverted, as the
+  // one-shot solve does up to its test; R is kept. Then the LDP: R^-1, M and its normalisation.
+  std::vector<c_float> zeros(qp.n, 0.0), upper(qp.m, DAQP_INF), lower(qp.m, -DAQP_INF);
+  DAQPProblem open = qp;
+  open.f = zeros.data();
+  open.bupper = upper.data();
+  open.blower = lower.data();
+  work_.settings = &settings_;
+  if (setup_daqp_main(&open, &work_, nullptr, DAQP_UPDATE_unconstrained) < 0) {
+    work_ = DAQPWorkspace{};  // DAQP freed what it had allocated
+    return;
+  }
+  allocated_ = true;
+  const bool deferred = (work_.state & DAQP_STATE_CHOLESKY_PENDING) && (work_.state & DAQP_STATE_UNCONSTRAINED) &&
+                        work_.Rinv != nullptr;
+  if (deferred) {
+    std::copy(work_.Rinv, work_.Rinv + factor_.size(), factor_.begin());
+    const int flag = daqp_update_ldp(DAQP_UPDATE_v | DAQP_UPDATE_d | DAQP_UPDATE_sense, &work_, &open);
+    kept_ = flag >= 0 && !(work_.state & (DAQP_STATE_PENDING | DAQP_STATE_CHOLESKY_PENDING)) &&
+            work_.Rinv != nullptr && work_.n_prox == 0 && work_.bnb == nullptr && work_.avi == nullptr &&
+            work_.eq == nullptr && work_.hierarchy == nullptr && std::equal(work_.sense, work_.sense + qp.m, qp.sense);
+  }
+  work_.qp = nullptr;  // open goes now
+  if (!kept_) release();
+}
+
+void LaguerreMpc::QpSolver::release() {
+  if (!allocated_) return;
+  work_.settings = nullptr;  // settings_ is not DAQP's to free
+  free_daqp_workspace(&work_);
+  free_daqp_ldp(&work_);
+  work_ = DAQPWorkspace{};
+  allocated_ = kept_ = false;
+}
+
+int LaguerreMpc::QpSolver::solve_once(const DAQPProblem& qp, double* x, double* lam) {
+  DAQPProblem problem = qp;
+  DAQPResult result{x, lam, 0.0, 0.0, 0, 0, 0, 0.0, 0.0};
+  daqp_quadprog(&result, &problem, &settings_);
+  return result.exitflag;
+}
+
+int LaguerreMpc::QpSolver::solve(const DAQPProblem& qp, double* x, double* lam) {
+  if (!kept_) return solve_once(qp, x, lam);
+  // The constraints' states as the one-shot solve starts them: none active; its bound check marks nothing here.
+  qp_ = qp;
+  work_.qp = &qp_;
+  std::copy(qp.sense, qp.sense + qp.m, work_.sense);
+  if (daqp_check_bounds(&work_, qp.bupper, qp.blower) != 0) return solve_once(qp, x, lam);
+  reset_daqp_workspace(&work_);
+  work_.state &= DAQP_STATE_RINV_NORMALIZED | DAQP_STATE_ILL_CONDITIONED;  // what an update of the LDP keeps
+  // DAQP's test of the unconstrained optimum, on R: it forms v and d = b - A x (unscaled) and reports whether x is
+  // feasible.
+  c_float* const inverse = work_.Rinv;
+  work_.Rinv = factor_.data();
+  work_.state |= DAQP_STATE_CHOLESKY_PENDING;
+  const int tested = daqp_check_unconstrained(&work_, DAQP_UPDATE_unconstrained | DAQP_UPDATE_v | DAQP_UPDATE_d);
+  work_.Rinv = inverse;
+  work_.state &= ~DAQP_STATE_CHOLESKY_PENDING;
+  if (tested == 1) {  // infeasible: d scaled as M's rows, and the working set formed from the states (empty)
+    for (int i = 0; i < work_.m; ++i) {
+      work_.dupper[i] *= work_.scaling[i];
+      work_.dlower[i] *= work_.scaling[i];
+    }
+    work_.reuse_ind = 0;
+    const int flag = daqp_reactivate_constraints(&work_);
+    if (flag < 0) return flag;
+  } else if (tested != DAQP_UNCONSTRAINED_OPTIMAL) {
+    return solve_once(qp, x, lam);  // not tested (not reached with the states above)
+  }
+  DAQPResult result{x, lam, 0.0, 0.0, 0, 0, 0, 0.0, 0.0};
+  daqp_solve(&result, &work_);
+  return result.exitflag;
+}
 
 RowMatrix laguerre_basis(double pole, int terms, int steps) {
   if (!(0.0 <= pole && pole < 1.0)) throw std::invalid_argument("pole must lie in [0, 1), got " + format_float(pole));
@@ -161,6 +273,10 @@ LaguerreMpc::LaguerreMpc(const MpcParams& params) : params_(params) {
   q_ = Eigen::VectorXd::Zero(2 * n);
 }
 
+LaguerreMpc::~LaguerreMpc() = default;
+LaguerreMpc::LaguerreMpc(LaguerreMpc&&) noexcept = default;
+LaguerreMpc& LaguerreMpc::operator=(LaguerreMpc&&) noexcept = default;
+
 Eigen::Vector2d LaguerreMpc::move(const Eigen::Vector2d& previous, const Eigen::VectorXd& eta) const {
   const int n = params_.laguerre_terms;
   return previous + Eigen::Vector2d(first_.dot(eta.head(n)), first_.dot(eta.tail(n)));
@@ -220,14 +336,10 @@ Eigen::Vector2d LaguerreMpc::command(const Eigen::Vector2d& position, const Eige
   } else {
     const int m = static_cast<int>(qp_rows_.rows());
     Eigen::VectorXd x(2 * n), lam(m);
-    DAQPProblem problem{2 * n, m, 0, qp_hessian_.data(), q_.data(), qp_rows_.data(), upper_.data(),
-                        lower_.data(), qp_sense_.data(), nullptr, 0, 0};
-    DAQPSettings settings;
-    daqp_default_settings(&settings);
-    settings.iter_limit = p.solver_iterations;
-    DAQPResult result{x.data(), lam.data(), 0.0, 0.0, 0, 0, 0, 0.0, 0.0};
-    daqp_quadprog(&result, &problem, &settings);
-    status = daqp_status(result.exitflag);
+    const DAQPProblem problem{2 * n, m, 0, qp_hessian_.data(), q_.data(), qp_rows_.data(), upper_.data(),
+                              lower_.data(), qp_sense_.data(), nullptr, 0, 0};
+    if (!solver_) solver_ = std::make_unique<QpSolver>(problem, p.solver_iterations);
+    status = daqp_status(solver_->solve(problem, x.data(), lam.data()));
     if (status == "solved" && x.allFinite()) {
       chosen = project_two_discs(move(previous, x), speed, previous, step);
       if (!chosen) status = "limits unreachable in one step";

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -29,10 +30,16 @@ struct MpcParams {
 // Discrete Laguerre functions: row i is L(i)^T, shape (steps, terms) (Wang 2009, ch. 3).
 RowMatrix laguerre_basis(double pole, int terms, int steps);
 
-// One QP with 2N variables per control cycle; the Hessian and constraint rows are built once.
+// One QP with 2N variables per control cycle; the Hessian and constraint rows are built once, and so is the solver's
+// workspace (on the first constrained QP). Movable, not copyable: the workspace is the tracker's own.
 class LaguerreMpc {
  public:
   explicit LaguerreMpc(const MpcParams& params);
+  ~LaguerreMpc();
+  LaguerreMpc(LaguerreMpc&&) noexcept;
+  LaguerreMpc& operator=(LaguerreMpc&&) noexcept;
+  LaguerreMpc(const LaguerreMpc&) = delete;
+  LaguerreMpc& operator=(const LaguerreMpc&) = delete;
 
   // The world-frame velocity for this cycle. ref_positions: (horizon + 1) x 2 at k .. k+horizon; ref_velocities:
   // horizon x 2 (checked, not needed by the prediction); the limits default to the parameters' and may only lower
@@ -54,6 +61,8 @@ class LaguerreMpc {
   const Eigen::VectorXd& qp_upper() const { return upper_; }
 
  private:
+  class QpSolver;  // DAQP's workspace for this tracker's QP (mpc.cpp)
+
   Eigen::Vector2d move(const Eigen::Vector2d& previous, const Eigen::VectorXd& eta) const;
 
   MpcParams params_;
@@ -69,6 +78,7 @@ class LaguerreMpc {
   RowMatrix qp_hessian_, qp_rows_;
   Eigen::VectorXi qp_sense_;
   Eigen::VectorXd upper_, lower_, q_;
+  std::unique_ptr<QpSolver> solver_;  // set up on the first constrained QP
   int fallbacks_ = 0;
   std::string last_status_ = "not run";
 };

@@ -128,6 +128,26 @@ def test_a_lowered_limit_below_the_previous_speed_brakes_at_max_accel():
         assert mpc.fallbacks == braking + trial + 1
 
 
+def test_a_tracker_answers_each_qp_as_a_new_tracker_does():
+    """The solver's workspace is set up once and kept from one QP to the next; it carries nothing over: the same
+    commands to the last bit and the same way found, for solvable and infeasible QPs alike."""
+    rng = np.random.default_rng(5)
+    for params in (P, MpcParams(polygon_sides=7, constrained_steps=3)):
+        kept = LaguerreMpc(params)
+        statuses = set()
+        for trial in range(300):
+            ref_positions, ref_velocities = random_reference(rng, rng.uniform(0.0, 1.5 * params.max_speed))
+            speed = None if trial % 3 else rng.uniform(0.5, params.max_speed)
+            accel = None if trial % 4 else rng.uniform(0.5, params.max_accel)
+            call = (inside_disc(rng, 2.0), inside_disc(rng, params.max_speed), ref_positions, ref_velocities, speed,
+                    accel)
+            new = LaguerreMpc(params)
+            np.testing.assert_array_equal(kept.command(*call), new.command(*call), err_msg=f"call {trial}")
+            assert kept.last_status == new.last_status, f"call {trial}"
+            statuses.add(kept.last_status)
+        assert {"solved", "fallback: infeasible"} <= statuses
+
+
 def test_a_failing_solver_falls_back_within_both_limits():
     mpc = LaguerreMpc(MpcParams(solver_iterations=1))  # DAQP runs out of iterations on every constrained QP
     rng = np.random.default_rng(11)
