@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from enum import Enum, IntEnum
+from functools import cached_property
 from typing import NamedTuple
 
 from nubot_common.ball_flight import GRAVITY, landing
@@ -183,10 +184,11 @@ class WorldState:
     def me(self) -> Teammate:
         return self.robots[self.agent_id - 1]
 
-    @property
+    # Worked out once and kept in the (frozen) instance's __dict__: read several times a cycle.
+    @cached_property
     def teammates(self) -> tuple[Teammate, ...]:
         return tuple(r for r in self.robots if r.agent_id != self.agent_id)
 
-    @property
+    @cached_property
     def opponents(self) -> tuple[LabelledObstacle, ...]:
         return tuple(o for o in self.obstacles if o.label is ObstacleLabel.OPPONENT)

@@ -12,6 +12,7 @@ opponent goal at +x.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 from nubot_common.field import FieldGeometry
 from nubot_common.match_mode import MatchMode
@@ -39,7 +40,7 @@ class TeamState:
     goalie_id: int = 1
     flight: BallFlight | None = None  # the ball in 3-D with its touchdown (a goalie's RGB-D cameras), if fresh
 
-    @property
+    @cached_property  # read several times a cycle: sorted once, kept in the (frozen) instance's __dict__
     def team(self) -> tuple[RobotReport, ...]:
         """All valid robots of the team, me included, by AgentID."""
         return tuple(sorted((self.me, *self.mates), key=lambda m: m.agent_id))
