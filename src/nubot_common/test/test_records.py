@@ -9,23 +9,23 @@ import pytest
 from nubot_common.records import fast_init
 
 
-@dataclass(frozen=True)
-class Plain:
-    a: int
-    b: float = 2.0
-    c: tuple[int, ...] = field(default_factory=tuple)
-    d: list[int] = field(default_factory=list)
-    e: str = field(default="e", kw_only=True)
+def _record(name: str) -> type:
+    """The same frozen dataclass each call: defaults, factories and a keyword-only field."""
+
+    @dataclass(frozen=True)
+    class Record:
+        a: int
+        b: float = 2.0
+        c: tuple[int, ...] = field(default_factory=tuple)
+        d: list[int] = field(default_factory=list)
+        e: str = field(default="e", kw_only=True)
+
+    Record.__name__ = Record.__qualname__ = name
+    return Record
 
 
-@fast_init
-@dataclass(frozen=True)
-class Fast:
-    a: int
-    b: float = 2.0
-    c: tuple[int, ...] = field(default_factory=tuple)
-    d: list[int] = field(default_factory=list)
-    e: str = field(default="e", kw_only=True)
+Plain = _record("Plain")
+Fast = fast_init(_record("Fast"))
 
 
 @fast_init
