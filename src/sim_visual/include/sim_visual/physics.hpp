@@ -167,8 +167,8 @@ class Physics {
   std::vector<int> step(double dt);
   // The wall time [s] spent in step since the world was made: ODE's own part of the simulator's work.
   double step_seconds() const { return step_seconds_; }
-  // The steps since the world was made in which ODE's solver reported "LCP internal error" (a contact problem it
-  // could not solve exactly; ODE prints the message and goes on with what it had).
+  // How often ODE's solver reported "LCP internal error" in this world's steps since it was made (a contact problem
+  // it could not solve exactly; ODE prints the message and goes on with what it had).
   long solver_errors() const { return solver_errors_; }
   void note_solver_error() { ++solver_errors_; }
 

@@ -371,8 +371,8 @@ class PhysicsWorld:
 
     @property
     def solver_errors(self) -> int:
-        """The steps since the world was made in which ODE's solver reported "LCP internal error" (it could not solve
-        the step's contacts exactly; the message goes to stderr as ODE prints it, and the step goes on)."""
+        """How often ODE's solver reported "LCP internal error" in this world's steps since it was made (it could not
+        solve a step's contacts exactly; the message goes to stderr as ODE prints it, and the step goes on)."""
         return self._core.solver_errors()
 
     def _surface_table(self) -> dict[tuple[str, str], tuple[float, float, int]]:
