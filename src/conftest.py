@@ -3,7 +3,7 @@
 
 import pytest
 
-from nubot_tools.processes import RosMaster
+from nubot_common.processes import RosMaster
 
 
 @pytest.fixture(scope="session")

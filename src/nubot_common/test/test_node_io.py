@@ -75,7 +75,7 @@ def test_a_timer_on_sim_time_runs_every_period_of_the_clock_and_shares_the_nodes
     from rosgraph_msgs.msg import Clock
 
     from nubot_common.node_io import publisher
-    from nubot_tools.processes import wait_until
+    from nubot_common.processes import wait_until
 
     previous = rospy.get_param("/use_sim_time", None)
     rospy.set_param("/use_sim_time", True)
@@ -121,7 +121,7 @@ def test_a_timer_on_sim_time_runs_every_period_of_the_clock_and_shares_the_nodes
 def test_a_timer_on_wall_time_runs_without_a_clock(ros_master):
     import rospy
 
-    from nubot_tools.processes import wait_until
+    from nubot_common.processes import wait_until
 
     previous = rospy.get_param("/use_sim_time", None)  # a launch file before this test may have set it
     rospy.set_param("/use_sim_time", False)

@@ -17,14 +17,14 @@ import yaml
 from rosbags.rosbag1 import Reader
 
 from nubot_common import msg as nubot_msgs
+from nubot_common.processes import RosMaster, wait_until
 from nubot_match import NubotMatchError
+from nubot_match import match_analysis as ma
 from nubot_match.bag import TIME_MIN_NS, BagRecorder, RawClock, active_path, clock_msg
 from nubot_match.config import match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.record import MatchLogRecorder
-from nubot_tools import match_analysis as ma
 from nubot_tools import match_report
-from nubot_tools.processes import RosMaster, wait_until
 
 HALF_SECONDS = 10.0
 SEED = 6  # a match with kicks (no seed of 0..39 has a referee call in 2 x 10 s with today's teams: a call recorded in a

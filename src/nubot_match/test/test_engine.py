@@ -7,11 +7,10 @@ import yaml
 
 from nubot_common.commands import BodyVelocity, RobotCommand
 from nubot_match import NubotMatchError
-from nubot_match.config import load_team, match_config
+from nubot_match import match_analysis as ma
+from nubot_match.config import TEAMS, load_team, match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.record import MatchEvents, MatchListener, MatchLogRecorder
-from nubot_tools import match_analysis as ma
-from nubot_tools.workspace import TEAMS
 
 
 class Counter(MatchListener):

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 import yaml
 
+from nubot_common.processes import wait_until
 from nubot_match.evaluate import jobs_for
 from nubot_match.statistics import (
     MatchResult,
@@ -22,7 +23,6 @@ from nubot_match.statistics import (
     table_text,
     verdict,
 )
-from nubot_tools.processes import wait_until
 
 WORKSPACE = Path(__file__).resolve().parents[3]
 SCRIPT = WORKSPACE / "scripts" / "evaluate.py"

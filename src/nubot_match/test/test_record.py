@@ -9,9 +9,9 @@ import textwrap
 
 import numpy as np
 
+from nubot_match import match_analysis as ma
 from nubot_match import record
 from nubot_match.record import MatchLogRecorder
-from nubot_tools import match_analysis as ma
 from sim_visual.world import BallState, RobotState
 
 

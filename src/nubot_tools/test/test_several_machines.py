@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from nubot_tools.processes import Launched, wait_until
+from nubot_common.processes import Launched, wait_until
 
 pytestmark = pytest.mark.integration
 

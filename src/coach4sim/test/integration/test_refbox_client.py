@@ -14,7 +14,7 @@ import pytest
 
 from coach4sim.refbox_server import RefboxServer
 from nubot_common.match_mode import MatchMode as M
-from nubot_tools.processes import free_port, wait_until
+from nubot_common.processes import free_port, wait_until
 
 pytestmark = pytest.mark.integration
 

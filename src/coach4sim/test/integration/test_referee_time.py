@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from nubot_tools.processes import ros_graph
+from nubot_common.processes import ros_graph
 
 pytestmark = pytest.mark.integration
 

@@ -9,8 +9,8 @@ import pytest
 
 from front_vision.camera_model import load_camera
 from front_vision.pipeline import FrontVisionParams
+from nubot_common.launch_checks import launched, nested
 from nubot_common.params import from_mapping, load_yaml
-from nubot_tools.launch_checks import launched, nested
 from omni_vision.colors import ColorTable
 
 SRC = Path(__file__).resolve().parents[3]

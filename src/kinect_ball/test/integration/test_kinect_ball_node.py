@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from nubot_common.ball_flight import landing
-from nubot_tools.processes import wait_until
+from nubot_common.processes import wait_until
 
 pytestmark = pytest.mark.integration
 

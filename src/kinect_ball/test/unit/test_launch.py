@@ -6,8 +6,8 @@ from pathlib import Path
 import pytest
 
 from kinect_ball.pipeline import KinectBallParams
+from nubot_common.launch_checks import launched, nested
 from nubot_common.params import from_mapping, load_yaml
-from nubot_tools.launch_checks import launched, nested
 
 SRC = Path(__file__).resolve().parents[3]
 

@@ -11,7 +11,7 @@ Provides: ``TeamLink``, which
   (``stats``);
 - hands every packet it takes to ``on_accept`` (in the receiving thread; it must not raise), e.g. to time it;
 - runs ``lcm.handle_timeout`` in a thread of its own (``start``/``close``), or one call at a time (``handle``).
-The latest packet per member is kept by ``sim_visual.relay.TeamRelay``, the simulation's relay.
+The latest packet per member is kept by ``nubot_comm.relay.TeamRelay``, the relay the simulation uses too.
 """
 
 from __future__ import annotations
@@ -37,8 +37,8 @@ from nubot_comm.codec import (
     decode_team,
     team_channel,
 )
+from nubot_comm.relay import TeamRelay
 from nubot_lcm import coach_packet_t, team_packet_t
-from sim_visual.relay import TeamRelay
 
 HANDLE_TIMEOUT = 0.1  # [s] the receiving thread looks at its stop flag this often
 SESSION_BITS = 62  # sessions are positive int64

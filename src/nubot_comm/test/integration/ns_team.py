@@ -27,8 +27,8 @@ import numpy as np
 
 from nubot_comm.codec import DEFAULT_URL
 from nubot_comm.netns import group_of, group_sender
+from nubot_common.processes import RosMaster
 from nubot_lcm import team_packet_t
-from nubot_tools.processes import RosMaster
 
 RATE = 30.0  # [Hz] the fed world models and strategies, as world_model and nubot_control send them
 LCM_SHORT_MAGIC = 0x4C433032  # an LCM datagram carrying one whole message: magic, sequence, channel, NUL, payload

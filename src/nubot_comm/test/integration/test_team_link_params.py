@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pytest
 
-from nubot_tools.launch_checks import run_refused
+from nubot_common.launch_checks import run_refused
 
 pytestmark = pytest.mark.integration
 

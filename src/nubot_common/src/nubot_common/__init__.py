@@ -2,7 +2,9 @@
 
 Provides: ``field`` (MSL field geometry), ``match_mode`` (the coach's game
 commands), ``geometry`` (2-D poses and frames), ``params`` (typed parameter
-loading) and ``reconfigure`` (dynamic_reconfigure descriptions built at run time).
+loading), ``reconfigure`` (dynamic_reconfigure descriptions built at run time), ``packages`` (where a ROS
+package is, by ROS's own lookup), ``processes`` (roscore, roslaunch and rosrun processes in groups of their own,
+for the runners and the tests) and ``launch_checks`` (what a launch file gives its nodes, for the tests).
 The generated ``msg`` and ``srv`` modules live beside these after catkin_make.
 """
 

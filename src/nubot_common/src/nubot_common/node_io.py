@@ -190,3 +190,20 @@ def timer(period: float, callback: Callable[[rospy.timer.TimerEvent], None]) -> 
     if rospy.rostime.is_wallclock():
         return rospy.Timer(rospy.Duration(period), callback)
     return _ClockTimer(period, callback)
+
+
+def wait_for_robots(names: list[str], timeout: float, stop: Callable[[], bool] = lambda: False) -> list[str]:
+    """Wait until every robot publishes its world model (or ``stop()`` says so); return the ones still silent."""
+    from nubot_common.msg import WorldModelInfo
+
+    heard: set[str] = set()
+    subs = [rospy.Subscriber(f"/{n}/worldmodel/worldmodelinfo", WorldModelInfo,
+                             lambda _m, n=n: heard.add(n), queue_size=1) for n in names]
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and len(heard) < len(names):
+        if stop():
+            break
+        time.sleep(0.2)
+    for sub in subs:
+        sub.unregister()
+    return sorted(set(names) - heard)

@@ -5,7 +5,7 @@ import threading
 
 import pytest
 
-from nubot_tools.processes import wait_until
+from nubot_common.processes import wait_until
 
 pytestmark = pytest.mark.integration
 

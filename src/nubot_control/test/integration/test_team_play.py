@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from nubot_tools.processes import wait_until
+from nubot_common.processes import wait_until
 
 pytestmark = pytest.mark.integration
 
@@ -63,7 +63,7 @@ def match(ros_master, tmp_path_factory):
         teams.append(ros_master.launch(f"team_{prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
                                                           str(path), "--processes", PROCESSES[prefix]]))
     watch = Watch()
-    from nubot_tools.ros.match_runner import wait_for_robots
+    from nubot_common.node_io import wait_for_robots
 
     silent = wait_for_robots([f"{p}{k}" for p in ("nubot", "rival") for k in (1, 2, 3)], timeout=120)
     assert not silent, f"robots without a world model: {silent}\n{teams[0].log_text()[-3000:]}"

@@ -4,9 +4,9 @@ nodes with processes:=two; anything else refused by roslaunch, naming the argume
 import subprocess
 from pathlib import Path
 
+from nubot_common.launch_checks import launched, nested
 from nubot_common.params import from_mapping
 from nubot_control.params import ControlParams
-from nubot_tools.launch_checks import launched, nested
 from world_model.params import WorldModelParams
 
 LAUNCH = Path(__file__).resolve().parents[2] / "launch" / "robot.launch"

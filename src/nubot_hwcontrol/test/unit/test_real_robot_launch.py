@@ -5,9 +5,9 @@ any other layout refused by roslaunch, naming the argument."""
 import subprocess
 from pathlib import Path
 
+from nubot_common.launch_checks import launched, nested
 from nubot_common.params import from_mapping
 from nubot_control.params import ControlParams
-from nubot_tools.launch_checks import launched, nested
 from world_model.params import WorldModelParams
 
 LAUNCH = Path(__file__).resolve().parents[2] / "launch" / "real_robot.launch"

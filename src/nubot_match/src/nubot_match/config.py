@@ -24,6 +24,7 @@ import yaml
 
 from coach4sim.params import RefereeParams
 from nubot_common import NubotCommonError
+from nubot_common.packages import package_path, shipped_teams
 from nubot_common.params import from_mapping
 from nubot_common.world_description import WorldDescription, load_world
 from nubot_control import NubotControlError
@@ -31,16 +32,15 @@ from nubot_control.params import TRACKERS, ControlParams
 from nubot_control.plugins import resolve_spec, strategy_class
 from nubot_control.team_config import TeamConfig
 from nubot_match import NubotMatchError
-from nubot_tools.workspace import TEAMS, WORKSPACE
 from sim_visual.params import SimInterfaceParams, SimNodeParams
 from world_model.params import WorldModelParams
 
-SRC = WORKSPACE / "src"
+TEAMS = shipped_teams()
 CONFIG = {
-    "sim": SRC / "sim_visual" / "config" / "sim_visual.yaml",
-    "world_model": SRC / "world_model" / "config" / "world_model.yaml",
-    "control": SRC / "nubot_control" / "config" / "nubot_control.yaml",
-    "referee": SRC / "coach4sim" / "config" / "referee.yaml",
+    "sim": package_path("sim_visual") / "config" / "sim_visual.yaml",
+    "world_model": package_path("world_model") / "config" / "world_model.yaml",
+    "control": package_path("nubot_control") / "config" / "nubot_control.yaml",
+    "referee": package_path("coach4sim") / "config" / "referee.yaml",
 }
 REFEREE_NODE_KEYS = ("teams", "auto", "republish_period", "state_period", "sim_namespace")  # the node's, not the rules'
 

@@ -31,6 +31,7 @@ from dataclasses import dataclass, field, replace
 from coach4sim.game import GameController, GameStateData
 from coach4sim.params import TeamSpec
 from coach4sim.referee import AutomaticReferee, GoalSeen, Phase, RefereeDecision, WorldSnapshot
+from nubot_comm.relay import TeamRelay
 from nubot_common.commands import RobotCommand
 from nubot_common.match_mode import MatchMode
 from nubot_common.naming import parse_robot_name
@@ -42,7 +43,6 @@ from nubot_match import NubotMatchError
 from nubot_match.config import MatchConfig
 from nubot_match.record import MatchListener
 from sim_visual.params import RobotSpawn, SimConfig
-from sim_visual.relay import TeamRelay
 from sim_visual.simulator import BallKicked, BallTouched, GoalScored, SimEvent, Simulator
 from sim_visual.world import BallState
 

@@ -39,13 +39,12 @@ from pathlib import Path
 
 from nubot_common.naming import team_of
 from nubot_match import NubotMatchError
-from nubot_match.config import MatchConfig, match_config
+from nubot_match.config import TEAMS, MatchConfig, match_config
 from nubot_match.engine import LockstepMatch
+from nubot_match.match_analysis import FOUL_KINDS, MatchSummary, analyse
+from nubot_match.match_shots import ShotReport, explain
 from nubot_match.record import MatchLogRecorder
 from nubot_match.statistics import MatchResult, plot_goal_difference, summarise, table_text, verdict
-from nubot_tools.match_analysis import FOUL_KINDS, MatchSummary, analyse
-from nubot_tools.match_shots import ShotReport, explain
-from nubot_tools.workspace import TEAMS, WORKSPACE
 
 MAX_MATCHES = 100_000
 
@@ -341,7 +340,7 @@ def main(argv: list[str] | None = None) -> int:
     home, away = _name(args.home), _name(args.away)
     if home == away:
         home, away = f"{home} (home)", f"{away} (away)"
-    out = args.out or WORKSPACE / "evaluations" / datetime.now().strftime("%Y%m%d-%H%M%S")
+    out = args.out or Path("evaluations") / datetime.now().strftime("%Y%m%d-%H%M%S")
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:

@@ -2,7 +2,7 @@
 
 Requires: the engine's calls, in sim time [s] and the world frame [m]. Provides: ``MatchListener`` (the
 calls a listener may take; every one optional), ``MatchLogRecorder`` (builds the ``MatchLog`` that
-``nubot_tools.match_analysis`` turns into the statistics of a report, the same records a bag gives),
+``nubot_match.match_analysis`` turns into the statistics of a report, the same records a bag gives),
 and ``MatchEvents`` (every event as one plain tuple: what the determinism test compares).
 """
 
@@ -23,7 +23,7 @@ from nubot_common.percepts import RobotView
 from nubot_common.team_play import Role
 from nubot_common.world_description import WorldDescription
 from nubot_control.agent import AgentStep
-from nubot_tools import match_analysis as ma
+from nubot_match import match_analysis as ma
 from sim_visual.simulator import BallKicked, BallTouched, GoalScored, SimEvent
 from sim_visual.world import BallState, RobotState
 

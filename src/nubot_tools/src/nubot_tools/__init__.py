@@ -1,8 +1,8 @@
 """The tools around a match (pure Python; no rospy here, see ``ros`` for the tools that drive a ROS graph).
 
-Modules: ``processes`` (start and stop roscore, roslaunch and rosrun processes in groups of their own,
-for the runners and the tests), ``match_analysis`` (statistics of a match from plain records),
-``match_plots`` (heat map and trajectories), ``match_report`` (the report from a match bag alone,
-with ``rosbags``), ``workspace`` (where the workspace's files are). Each script in the workspace's
+Modules: ``match_plots`` (heat map and trajectories), ``match_report`` (the report from a match bag alone,
+with ``rosbags``), ``workspace`` (the repository's folders for matches and benchmarks). The
+statistics of a match (``match_analysis``, ``match_shots``) live in ``nubot_match``, which uses them; the
+ROS process groups (``processes``) and launch checks the tests share in ``nubot_common``. Each script in the workspace's
 ``scripts/`` only calls one of these.
 """

@@ -27,8 +27,8 @@ import numpy as np
 from nubot_comm import netns
 from nubot_comm.codec import DEFAULT_URL
 from nubot_comm.link import TeamLink
+from nubot_common.processes import RosMaster, wait_until
 from nubot_lcm import coach_packet_t, team_packet_t
-from nubot_tools.processes import RosMaster, wait_until
 from nubot_tools.workspace import WORKSPACE
 
 LOSSES = (0, 10, 30)  # [%] of the datagrams dropped on input

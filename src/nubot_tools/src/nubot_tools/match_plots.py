@@ -23,8 +23,8 @@ from matplotlib.figure import Figure
 
 from nubot_common.field import FieldGeometry
 from nubot_common.naming import is_robot_name, team_of
-from nubot_tools.match_analysis import Track
-from nubot_tools.match_shots import Shot
+from nubot_match.match_analysis import Track
+from nubot_match.match_shots import Shot
 
 TEAM_COLOURS = (("Blues", "blue"), ("Reds", "red"), ("Greens", "green"), ("Purples", "purple"),
                 ("Oranges", "orange"), ("Greys", "grey"))  # (colour map, name) per team, in the teams' order

@@ -53,8 +53,9 @@ from nubot_common.field import FieldGeometry
 from nubot_common.naming import team_of
 from nubot_common.params import from_mapping
 from nubot_common.world_description import BallBody, RobotBody, WorldDescription, load_world
-from nubot_tools import match_analysis as ma
-from nubot_tools import match_plots, match_shots
+from nubot_match import match_analysis as ma
+from nubot_match import match_shots
+from nubot_tools import match_plots
 
 MATCH_TOPICS = {
     "/sim_visual/model_states": "nubot_common/msg/ModelStates",

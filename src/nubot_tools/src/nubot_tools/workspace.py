@@ -2,5 +2,7 @@
 
 from pathlib import Path
 
+from nubot_common.packages import shipped_teams
+
 WORKSPACE = Path(__file__).resolve().parents[4]  # the catkin workspace (the repository) this module lives in
-TEAMS = WORKSPACE / "src" / "nubot_control" / "config" / "teams"  # the shipped team YAMLs
+TEAMS = shipped_teams()  # the shipped team YAMLs

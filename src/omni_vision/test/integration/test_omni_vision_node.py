@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from nubot_tools.processes import wait_until
+from nubot_common.processes import wait_until
 
 pytestmark = pytest.mark.integration
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from nubot_common.geometry import quaternion_to_yaw
-from nubot_tools.processes import RosMaster, wait_until
+from nubot_common.processes import RosMaster, wait_until
 
 
 class SimClient:

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from nubot_tools.launch_checks import refused_then_up, serves
+from nubot_common.launch_checks import refused_then_up, serves
 
 pytestmark = pytest.mark.integration
 

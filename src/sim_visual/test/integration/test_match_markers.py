@@ -12,8 +12,8 @@ import pytest
 import yaml
 
 from nubot_common.geometry import quaternion_to_yaw, wrap_angle
+from nubot_common.processes import wait_until
 from nubot_common.team_frame import TeamFrame
-from nubot_tools.processes import wait_until
 
 pytestmark = pytest.mark.integration
 
@@ -118,7 +118,7 @@ def match(ros_master, tmp_path_factory):
             teams.append(ros_master.launch(f"markers_team_{prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
                                                                       str(path)]))
         watch = MatchWatch()
-        from nubot_tools.ros.match_runner import wait_for_robots
+        from nubot_common.node_io import wait_for_robots
 
         silent = wait_for_robots([f"{p}{k}" for p, _ in TEAMS for k in (1, 2)], timeout=90)
         assert not silent, f"robots without a world model: {silent}\n{teams[0].log_text()[-3000:]}"

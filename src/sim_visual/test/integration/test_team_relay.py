@@ -10,7 +10,7 @@ import time
 
 import pytest
 
-from nubot_tools.processes import Launched, wait_until
+from nubot_common.processes import Launched, wait_until
 
 pytestmark = pytest.mark.integration
 

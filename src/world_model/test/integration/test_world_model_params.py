@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from nubot_tools.launch_checks import publishes, refused_then_up, run_refused
+from nubot_common.launch_checks import publishes, refused_then_up, run_refused
 
 pytestmark = pytest.mark.integration
 

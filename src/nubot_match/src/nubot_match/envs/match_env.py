@@ -34,13 +34,12 @@ from pettingzoo import ParallelEnv
 from nubot_common.naming import parse_robot_name
 from nubot_common.team_frame import TeamFrame
 from nubot_match import NubotMatchError
-from nubot_match.config import match_config
+from nubot_match.config import TEAMS, match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.envs import match_adapter as adapter
 from nubot_match.envs.actions import action_space, to_command
 from nubot_match.envs.observations import OWN_NAMES, Layout, other_block, other_names, own_block
 from nubot_match.envs.rewards import RewardFn, goal_difference_reward
-from nubot_tools.workspace import TEAMS
 from sim_visual.simulator import Simulator
 
 ENGINE_SEEDS = 2**31 - 1  # engine seeds are drawn from [0, this)

@@ -7,7 +7,7 @@ Requires: the shipped teams (nubot against rival, the configured tracker, the 18
 part the whole stack (``scripts/run_match.py``: roscore, simulator, 20 nodes, referee, rosbag, at real
 time: about 2 x ``--half-seconds`` plus stoppages and start-up per seed, on every core). For seeds
 0..N-1 it plays a lockstep match (``nubot_match``: ``match_config(..., half_seconds=H, halves=2,
-seed=s)``, ``MatchLogRecorder``, ``nubot_tools.match_analysis.analyse``) and a ROS match
+seed=s)``, ``MatchLogRecorder``, ``nubot_match.match_analysis.analyse``) and a ROS match
 (``run_match.py --half-seconds H --halves 2 --seed s``, its ``report.json``), and compares per match:
 
 - goals per minute of running time (both teams);
@@ -66,7 +66,7 @@ QUICK_SEEDS, QUICK_HALF_SECONDS = 2, 10.0
 def figures(report: dict, home: str = HOME_TEAM) -> dict[str, float]:
     """The compared metrics of one match from its report (``MatchSummary.to_json()`` with the ``ShotReport`` under
     "shot_report", or a match_report's report.json)."""
-    from nubot_tools.match_analysis import FOUL_KINDS
+    from nubot_match.match_analysis import FOUL_KINDS
 
     minutes = report["running_time_s"] / 60.0
 
@@ -92,9 +92,9 @@ def figures(report: dict, home: str = HOME_TEAM) -> dict[str, float]:
 def play_lockstep(seed: int, half_seconds: float) -> dict:
     from nubot_match.config import match_config
     from nubot_match.engine import LockstepMatch
+    from nubot_match.match_analysis import analyse
+    from nubot_match.match_shots import explain
     from nubot_match.record import MatchLogRecorder
-    from nubot_tools.match_analysis import analyse
-    from nubot_tools.match_shots import explain
 
     config = match_config(half_seconds=half_seconds, halves=2, seed=seed)
     recorder = MatchLogRecorder()

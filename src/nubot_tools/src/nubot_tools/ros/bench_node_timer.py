@@ -24,7 +24,7 @@ import threading
 import time
 from pathlib import Path
 
-from nubot_tools.processes import RosMaster, wait_until
+from nubot_common.processes import RosMaster, wait_until
 from nubot_tools.workspace import WORKSPACE
 
 CYCLE_HZ = 33.0  # nubot_control's rate

@@ -23,7 +23,7 @@ from pathlib import Path
 import psutil
 import yaml
 
-from nubot_tools.processes import RosMaster
+from nubot_common.processes import RosMaster
 from nubot_tools.workspace import WORKSPACE
 from sim_visual.params import RobotSpawn, SimConfig
 from sim_visual.simulator import Simulator

@@ -27,10 +27,10 @@ from pathlib import Path
 import numpy as np
 
 from nubot_common.geometry import Pose2D, rotate
+from nubot_common.processes import RosMaster, wait_until
 from nubot_common.world_description import WorldDescription
 from nubot_control.motion import MotionController
 from nubot_control.params import MotionParams
-from nubot_tools.processes import RosMaster, wait_until
 from nubot_tools.workspace import WORKSPACE
 
 P0 = (-6.0, -3.0)

@@ -17,7 +17,7 @@ import time
 from datetime import datetime
 from pathlib import Path
 
-from nubot_tools.processes import RosMaster
+from nubot_common.processes import RosMaster
 from nubot_tools.progress import SimProgress
 from nubot_tools.workspace import WORKSPACE
 

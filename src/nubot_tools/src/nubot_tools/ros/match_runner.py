@@ -22,12 +22,11 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable
 from datetime import datetime
 from pathlib import Path
 
+from nubot_common.processes import Launched, RosMaster, process_table
 from nubot_tools.node_watch import NodeEvent, NodeWatch
-from nubot_tools.processes import Launched, RosMaster, process_table
 from nubot_tools.progress import SimProgress
 from nubot_tools.resources import ResourceLog
 from nubot_tools.workspace import TEAMS, WORKSPACE
@@ -277,25 +276,6 @@ def wait_for_simulator(sim: Launched, timeout: float) -> str | None:
     return f"the simulator did not offer /sim_visual/spawn_model within {timeout:.0f} s (its log: {sim.log_path})"
 
 
-def wait_for_robots(names: list[str], timeout: float, stop: Callable[[], bool] = lambda: False) -> list[str]:
-    """Wait until every robot publishes its world model (or ``stop()`` says so); return the ones still silent."""
-    import rospy
-
-    from nubot_common.msg import WorldModelInfo
-
-    heard: set[str] = set()
-    subs = [rospy.Subscriber(f"/{n}/worldmodel/worldmodelinfo", WorldModelInfo,
-                             lambda _m, n=n: heard.add(n), queue_size=1) for n in names]
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline and len(heard) < len(names):
-        if stop():
-            break
-        time.sleep(0.2)
-    for sub in subs:
-        sub.unregister()
-    return sorted(set(names) - heard)
-
-
 def start_viewer(master: RosMaster, port: int, timeout: float = 20.0) -> Launched:
     """Start the live page (``coach4sim viewer``) and print its address; a match goes on without it."""
     import rospy
@@ -406,6 +386,8 @@ def play(argv: list[str] | None) -> int:
             master.launch(f"team_{config.prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
                                                     str(team_file), *team_args])
         names = [n for c in configs for n in c.robot_names()]
+        from nubot_common.node_io import wait_for_robots  # rospy: imported once a match starts
+
         silent = wait_for_robots(names, timeout=180, stop=lambda: run.check(simulator=sim))
         if run.ended is None:
             if silent:

@@ -32,7 +32,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from nubot_tools.processes import RosMaster
+from nubot_common.processes import RosMaster
 from nubot_tools.resources import ResourceLog
 
 URL = "udpm://239.255.76.67:7667?ttl=0"

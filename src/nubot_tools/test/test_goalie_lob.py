@@ -15,7 +15,7 @@ import time
 
 import pytest
 
-from nubot_tools.processes import wait_until
+from nubot_common.processes import wait_until
 
 pytestmark = pytest.mark.integration
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from nubot_common.world_description import RobotBody, WorldDescription
-from nubot_tools import match_analysis as ma
+from nubot_match import match_analysis as ma
 
 WORLD = WorldDescription()
 RATE = 30.0  # [Hz]

@@ -1,4 +1,4 @@
-"""Tests for nubot_tools.processes: free ports and process groups that stop cleanly (no roscore here)."""
+"""Tests for nubot_common.processes: free ports and process groups that stop cleanly (no roscore here)."""
 
 import os
 import signal
@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from nubot_tools import processes
-from nubot_tools.processes import DEFAULT_MASTER_PORT, Launched, free_port
+from nubot_common import processes
+from nubot_common.processes import DEFAULT_MASTER_PORT, Launched, free_port
 
 
 def live_group_members(pgid: int) -> list[int]:

@@ -17,7 +17,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from nubot_tools.processes import RosMaster, wait_until
+from nubot_common.processes import RosMaster, wait_until
 
 RUN_TIMEOUT = 30.0  # [s] for a node that must refuse its parameters and exit
 UP_TIMEOUT = 60.0  # [s] for a launch to refuse or come up

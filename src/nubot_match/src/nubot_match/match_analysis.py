@@ -75,7 +75,7 @@ import numpy as np
 from nubot_common.field import FieldGeometry
 from nubot_common.naming import is_robot_name, team_of
 from nubot_common.world_description import WorldDescription
-from nubot_tools.match_records import (
+from nubot_match.match_records import (
     FOUL_KINDS,
     Call,
     CoachCommand,

@@ -1,4 +1,5 @@
-"""The simulation interface: what RTDB does between real teammates, for one team only.
+"""The team relay: what RTDB does between real teammates, for one team only (the simulation's relay node
+``sim_interface`` and the real robots' ``TeamLink`` keep their teammates' latest messages with it).
 
 Requires: messages tagged with the sender's AgentID and a stamp [s]. Provides: ``TeamRelay``
 (keeps the latest message of each member and hands out those younger than ``max_age``).

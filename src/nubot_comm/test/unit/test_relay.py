@@ -1,8 +1,8 @@
-"""Unit tests of the team relay (sim_visual.relay)."""
+"""Unit tests of the team relay (nubot_comm.relay)."""
 
 import pytest
 
-from sim_visual.relay import TeamRelay
+from nubot_comm.relay import TeamRelay
 
 
 def test_relays_the_latest_message_of_each_member_in_order():

@@ -49,7 +49,7 @@ import numpy as np
 from nubot_common.field import FieldGeometry
 from nubot_common.naming import team_of
 from nubot_common.world_description import WorldDescription
-from nubot_tools import match_analysis as ma
+from nubot_match import match_analysis as ma
 
 SHOT_TIME = 4.0  # a shot scores only this soon after the kick [s]
 ASSIST_TIME = 10.0  # [s]
