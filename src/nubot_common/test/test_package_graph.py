@@ -21,8 +21,8 @@ UNDECLARED = {
     **{("front_vision", "sim_visual", where): "the front camera's calibration views rendered by the simulator "
        "(front_vision.simulated_views, calibrate_tool --simulate, their tests), whose camera model is front_vision's"
        for where in ("code", "tests")},
-    **{("nubot_hwcontrol", "sim_visual", where): "nubot_hwcontrol.calibration (and its tests) drive the simulator, "
-       "which takes the wheel kinematics from nubot_hwcontrol" for where in ("code", "tests")},
+    ("nubot_hwcontrol", "sim_visual", "tests"): "the simulated drive's tests run it on the simulator, which takes "
+    "the wheel kinematics from nubot_hwcontrol",
     ("omni_vision", "sim_visual", "tests"): "the colour calibration's tests render the simulator's omni camera, "
     "which takes the mirror model from omni_vision",
     **{("nubot_hwcontrol", pkg, "tests"): "the real robot launch's tests check the parameters of every node it "

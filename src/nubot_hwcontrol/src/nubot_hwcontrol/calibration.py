@@ -1,5 +1,6 @@
-"""The shooting calibration's files and measurements: (pulse, ball speed) pairs from a CSV or from kicks in
-the simulator, and the fitted table as the YAML fragment ``nubot_hwcontrol.yaml`` takes.
+"""The shooting calibration's files and measurements: (pulse, ball speed) pairs from a CSV (measured on the robot,
+or in the simulator by ``sim_visual.kick_measurements``), and the fitted table as the YAML fragment
+``nubot_hwcontrol.yaml`` takes.
 
 CSV: a header ``pulse_ms,speed,lever`` (lever ``flat`` or ``lob``), one kick per row; speed is the ball's
 speed just after the kick [m/s] (a light barrier or the omni camera's ball track).
@@ -11,8 +12,6 @@ import csv
 import math
 from collections.abc import Sequence
 from pathlib import Path
-
-import numpy as np
 
 from nubot_hwcontrol import HardwareError
 from nubot_hwcontrol.shooting import CalibrationFit
@@ -60,27 +59,3 @@ def calibration_yaml(fits: dict[str, CalibrationFit]) -> str:
                   f"      pulse_ms: [{', '.join(f'{p:g}' for p in fit.table.pulse_ms)}]",
                   f"      speed: [{', '.join(f'{v:g}' for v in fit.table.speed)}]"]
     return "\n".join(lines) + "\n"
-
-
-def simulated_kicks(pulses: Sequence[float], lob: bool, seed: int = 0) -> list[tuple[float, float]]:
-    """Kick a ball held by a robot of a fresh simulator with the simulated drive's solenoid at each pulse and
-    measure the ball's speed just after: the measurements a team takes on the robot, in simulation."""
-    from nubot_hwcontrol.controller import HwControlParams
-    from nubot_hwcontrol.sim_drive import SimulatedDrive
-    from nubot_hwcontrol.sim_world import SimulatorWorld
-    from sim_visual.params import RobotSpawn, SimConfig
-    from sim_visual.simulator import Simulator
-
-    out = []
-    layout = HwControlParams().regular
-    for i, pulse in enumerate(pulses):
-        sim = Simulator(SimConfig(robots=(RobotSpawn("nubot1", -6.0, 0.0, 0.0),), ball_start=(-5.57, 0.0),
-                                  seed=seed + i))
-        if not sim.ball_handle("nubot1", 1):
-            raise HardwareError("the simulated robot did not capture the ball placed in its handler")
-        drive = SimulatedDrive(SimulatorWorld(sim, "nubot1"), layout, seed=seed + i)
-        drive.set_lever(lob)
-        drive.fire(sim.time, float(pulse))
-        ball = sim.world.ball_state()
-        out.append((float(pulse), float(np.hypot(ball.vx, ball.vy)) if not lob else float(drive.kicks[-1][1])))
-    return out
