@@ -18,9 +18,8 @@ RUN_TAGS = ("depend", "exec_depend", "build_depend", "build_export_depend")
 
 # (importer, imported, where: "code" or "tests"): why the import is not declared yet.
 UNDECLARED = {
-    **{("front_vision", "sim_visual", where): "the front camera's calibration views rendered by the simulator "
-       "(front_vision.simulated_views, calibrate_tool --simulate, their tests), whose camera model is front_vision's"
-       for where in ("code", "tests")},
+    ("front_vision", "sim_visual", "tests"): "the tests render their images with the simulator's front camera, "
+    "which takes the camera model from front_vision",
     ("nubot_hwcontrol", "sim_visual", "tests"): "the simulated drive's tests run it on the simulator, which takes "
     "the wheel kinematics from nubot_hwcontrol",
     ("omni_vision", "sim_visual", "tests"): "the colour calibration's tests render the simulator's omni camera, "

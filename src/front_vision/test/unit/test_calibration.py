@@ -9,7 +9,7 @@ from front_vision import FrontVisionError
 from front_vision.calibrate_tool import main as calibrate_main
 from front_vision.calibration import Chessboard, GroundPlacement, calibrate, find_corners
 from front_vision.camera_model import load_camera
-from front_vision.simulated_views import board_views, ground_views
+from sim_visual.front_calibration import board_views, ground_views
 
 from .scenes import CAMERA, PARAMS
 
@@ -72,15 +72,6 @@ def test_too_few_views_and_bad_boards_are_refused() -> None:
     with pytest.raises(FrontVisionError, match="one camera, one size"):
         calibrate([np.zeros((240, 320, 3), np.uint8), np.zeros((100, 100, 3), np.uint8)], BOARD, [], [],
                   GROUND_BOARD)
-
-
-def test_the_tool_writes_a_camera_file_front_vision_loads(tmp_path, capsys) -> None:
-    out = tmp_path / "camera.yaml"
-    assert calibrate_main(["--simulate", "--views", "16", "--seed", "2", "--out", str(out)]) == 0
-    camera = load_camera(out)
-    assert camera.fx == pytest.approx(CAMERA.fx, rel=0.02)
-    assert out.read_text().startswith("# Front camera calibration")
-    assert "RMS reprojection" in capsys.readouterr().out
 
 
 def test_the_tool_refuses_a_folder_without_images(tmp_path, capsys) -> None:

@@ -46,7 +46,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("measurements", help="the CSV to write: pulse_ms,speed,lever per kick")
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args(argv)
-    pulses = np.repeat(np.arange(4.0, 41.0, 4.0), 3)  # 4..40 ms, three kicks each, per lever
+    pulses = [float(p) for p in np.repeat(np.arange(4.0, 41.0, 4.0), 3)]  # 4..40 ms, three kicks each, per lever
     try:
         rows = [(p, v, lever) for lever in LEVERS for p, v in simulated_kicks(pulses, lever == "lob", args.seed)]
         write_measurements(args.measurements, rows)
