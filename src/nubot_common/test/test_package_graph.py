@@ -18,15 +18,6 @@ RUN_TAGS = ("depend", "exec_depend", "build_depend", "build_export_depend")
 
 # (importer, imported, where: "code" or "tests"): why the import is not declared yet.
 UNDECLARED = {
-    ("front_vision", "sim_visual", "tests"): "the tests render their images with the simulator's front camera, "
-    "which takes the camera model from front_vision",
-    ("nubot_hwcontrol", "sim_visual", "tests"): "the simulated drive's tests run it on the simulator, which takes "
-    "the wheel kinematics from nubot_hwcontrol",
-    ("omni_vision", "sim_visual", "tests"): "the colour calibration's tests render the simulator's omni camera, "
-    "which takes the mirror model from omni_vision",
-    **{("nubot_hwcontrol", pkg, "tests"): "the real robot launch's tests check the parameters of every node it "
-       "starts (world model, control), which stand above hardware control through the simulator"
-       for pkg in ("nubot_control", "world_model")},
     **{(pkg, "nubot_tools", "tests"): "a test reads a match's bag through nubot_tools.match_report (the report's "
        "bag reader), which stands above the package" for pkg in ("coach4sim", "nubot_match")},
 }

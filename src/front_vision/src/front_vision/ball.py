@@ -31,8 +31,9 @@ import cv2
 import numpy as np
 
 from front_vision import FrontVisionError
-from front_vision.camera_model import PinholeCamera
-from omni_vision.colors import ColorClass, ColorTable
+from nubot_common.camera_model import PinholeCamera
+from nubot_common.color_class import ColorClass
+from omni_vision.colors import ColorTable
 
 _REGION = 2  # the flood fill's mark of the grown region (1: pixels that stop it)
 

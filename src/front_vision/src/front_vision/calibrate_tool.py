@@ -2,8 +2,8 @@
 
 The images: ``--images DIR`` (pictures of the board held in front of the camera, any of png/jpg/bmp) and
 ``--ground-image FILE`` once per ``--ground`` placement (the board lying flat at that place). The simulated
-camera is calibrated from views it renders itself by ``rosrun sim_visual calibrate_front_camera``
-(``sim_visual.front_calibration``), which shares this tool's arguments and output.
+camera is calibrated from views it renders itself by ``rosrun nubot_tools calibrate_front_camera``
+(``nubot_tools.front_calibration``), which shares this tool's arguments and output.
 
 A placement is ``x,y,yaw_deg``: the board's centre [m] in the robot's body frame and the direction [deg] of its
 columns (-90: to the robot's right, as the camera sees it upright). Boards: ``--board`` and ``--ground-board``,
@@ -24,7 +24,7 @@ import numpy as np
 
 from front_vision import FrontVisionError
 from front_vision.calibration import Chessboard, GroundPlacement, calibrate
-from front_vision.camera_model import camera_yaml
+from nubot_common.camera_model import camera_yaml
 
 _IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp")
 

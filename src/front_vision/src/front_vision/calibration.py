@@ -28,7 +28,7 @@ import cv2
 import numpy as np
 
 from front_vision import FrontVisionError
-from front_vision.camera_model import PinholeCamera
+from nubot_common.camera_model import PinholeCamera
 
 _SUBPIX = (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_MAX_ITER, 50, 1e-4)
 

@@ -18,7 +18,7 @@ import numpy as np
 
 from front_vision import FrontVisionError
 from front_vision.ball import BallLocator, BallParams, BallSighting, Sighting
-from front_vision.camera_model import PinholeCamera
+from nubot_common.camera_model import PinholeCamera
 from nubot_common.percepts import BallPercept
 from omni_vision.colors import ColorTable
 

@@ -70,8 +70,8 @@ def test_the_ball_ahead_is_seen_within_3_cm(front) -> None:
 
 
 def test_the_camera_info_carries_the_simulated_cameras_intrinsics(front) -> None:
-    from front_vision.camera_model import PinholeCamera
-    from front_vision.conversions import camera_intrinsics
+    from nubot_common.camera_info import camera_intrinsics
+    from nubot_common.camera_model import PinholeCamera
 
     _, watch = front
     wait_until(lambda: watch.infos, 10, "a CameraInfo")

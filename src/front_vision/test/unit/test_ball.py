@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from front_vision.ball import BallLocator, BallParams, Sighting, fit_tangent_cone
-from front_vision.camera_model import load_camera
 from front_vision.pipeline import FrontVision
-from omni_vision.colors import ColorClass
+from nubot_common.camera_model import load_camera
+from nubot_common.color_class import ColorClass
 
 from .scenes import CAMERA, CAMERA_FILE, render_ball, render_empty, table
 

@@ -8,8 +8,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from front_vision import FrontVisionError
-from front_vision.camera_model import PinholeCamera, camera_yaml, load_camera
+from nubot_common import NubotCommonError
+from nubot_common.camera_model import PinholeCamera, camera_yaml, load_camera
 
 from .scenes import CAMERA_FILE
 
@@ -91,7 +91,7 @@ def test_the_shipped_calibration_loads_and_is_near_the_simulated_camera() -> Non
     ({"pitch_deg": 95.0}, "pitch_deg must lie in"),
 ])
 def test_a_bad_camera_is_refused_with_the_reason(change: dict, message: str) -> None:
-    with pytest.raises(FrontVisionError, match=message):
+    with pytest.raises(NubotCommonError, match=message):
         replace(PinholeCamera(), **change)
 
 
@@ -104,7 +104,7 @@ def test_a_bad_camera_is_refused_with_the_reason(change: dict, message: str) -> 
 def test_a_bad_camera_file_is_refused_naming_it(tmp_path, text: str, message: str) -> None:
     path = tmp_path / "bad.yaml"
     path.write_text(text)
-    with pytest.raises(FrontVisionError, match=message):
+    with pytest.raises(NubotCommonError, match=message):
         load_camera(path)
-    with pytest.raises(FrontVisionError, match="cannot read it"):
+    with pytest.raises(NubotCommonError, match="cannot read it"):
         load_camera(tmp_path / "missing.yaml")

@@ -7,9 +7,9 @@ import math
 import pytest
 from sensor_msgs.msg import CameraInfo
 
-from front_vision import FrontVisionError
-from front_vision.camera_model import PinholeCamera
-from front_vision.conversions import camera_info_msg, camera_intrinsics
+from nubot_common import NubotCommonError
+from nubot_common.camera_info import camera_info_msg, camera_intrinsics
+from nubot_common.camera_model import PinholeCamera
 from nubot_common.conversions import front_ball, front_ball_info_msg, stamp
 from nubot_common.percepts import BallPercept
 
@@ -38,5 +38,5 @@ def test_camera_info_carries_the_true_intrinsics() -> None:
     assert PinholeCamera(**camera_intrinsics(msg)) == PinholeCamera(fx=231.0, cy=118.0,
                                                                    distortion=(-0.06, 0.02, 0.001, 0.0, 0.0))
     msg.distortion_model = "equidistant"
-    with pytest.raises(FrontVisionError, match="plumb_bob"):
+    with pytest.raises(NubotCommonError, match="plumb_bob"):
         camera_intrinsics(msg)

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from front_vision.camera_model import load_camera
 from front_vision.pipeline import FrontVisionParams
+from nubot_common.camera_model import load_camera
 from nubot_common.launch_checks import launched, nested
 from nubot_common.params import from_mapping, load_yaml
 from omni_vision.colors import ColorTable

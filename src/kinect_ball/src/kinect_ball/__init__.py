@@ -1,9 +1,9 @@
 """kinect_ball: the goalie's two RGB-D cameras (chapter 3.2, 4.2), a pure core and a thin node.
 
-Modules: ``mount`` (where each camera sits on the robot: camera frame <-> body frame), ``conversions``
-(``sensor_msgs/PointCloud2`` <-> arrays), ``detection`` (orange candidates, clusters, the RANSAC sphere fit of the
+Modules: ``detection`` (orange candidates, clusters, the RANSAC sphere fit of the
 known ball radius), ``flight`` (the 3-D track, the parabola fitted to the current flight, its touchdown) and
-``pipeline`` (both cameras' clouds and the robot's pose in, one ``Ball3dPercept`` out).
+``pipeline`` (both cameras' clouds and the robot's pose in, one ``Ball3dPercept`` out). Where each camera sits
+(``nubot_common.kinect_mount``) and the clouds' messages (``nubot_common.clouds``) are shared with the simulator.
 """
 
 

@@ -27,7 +27,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from kinect_ball.conversions import Cloud
+from nubot_common.clouds import Cloud
 from nubot_common.params import require_non_negative, require_positive
 
 _LIMB_SLACK = 0.3  # a noisy point near the ball's outline may seem to face slightly away: this share of R allowed

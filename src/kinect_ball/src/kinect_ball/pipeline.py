@@ -22,12 +22,12 @@ from dataclasses import field as dc_field
 
 import numpy as np
 
-from kinect_ball.conversions import Cloud
 from kinect_ball.detection import DetectionParams, DetectionReport, detect_ball
 from kinect_ball.flight import FlightParams, FlightTracker, Sighting
-from kinect_ball.mount import CAMERAS, GOALIE_MOUNTS, RgbdMounts, body_to_team
 from nubot_common.ball_flight import Landing
+from nubot_common.clouds import Cloud
 from nubot_common.geometry import Pose2D
+from nubot_common.kinect_mount import CAMERAS, GOALIE_MOUNTS, RgbdMounts, body_to_team
 from nubot_common.params import require_positive
 from nubot_common.percepts import Ball3dPercept
 

@@ -73,7 +73,7 @@ def _bad_clouds() -> list:
     import genpy
     from sensor_msgs.msg import PointCloud2, PointField
 
-    from kinect_ball.conversions import cloud_msg
+    from nubot_common.clouds import cloud_msg
 
     nan = cloud_msg(np.full((4, 5, 3), np.nan), np.zeros((4, 5, 3), np.uint8), PointCloud2, PointField,
                     genpy.Time(0, 1000), "nubot1/kinect_left")

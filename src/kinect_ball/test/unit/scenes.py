@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from kinect_ball.conversions import Cloud
+from nubot_common.clouds import Cloud
 
 RADIUS = 0.11  # [m]
 ORANGE = (245, 110, 20)

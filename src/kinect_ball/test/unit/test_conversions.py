@@ -1,4 +1,4 @@
-"""Unit tests of kinect_ball.conversions (sensor_msgs/PointCloud2 <-> arrays, with the generated message classes)
+"""Unit tests of nubot_common.clouds (sensor_msgs/PointCloud2 <-> arrays, with the generated message classes)
 and of the BallInfo3d <-> Ball3dPercept converters of nubot_common.conversions."""
 
 import math
@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from sensor_msgs.msg import PointCloud2, PointField
 
-from kinect_ball import KinectBallError
-from kinect_ball.conversions import FLOAT32, FLOAT64, UINT32, cloud_from_msg, cloud_msg
+from nubot_common import NubotCommonError
+from nubot_common.clouds import FLOAT32, FLOAT64, UINT32, cloud_from_msg, cloud_msg
 from nubot_common.conversions import ball3d_percept, ball_info3d_msg
 from nubot_common.msg import BallInfo3d
 from nubot_common.percepts import Ball3dPercept
@@ -67,7 +67,7 @@ def _msg(**changes):
     ({"height": 3000, "width": 3000}, "over the limit"),
 ])
 def test_a_bad_cloud_is_refused_with_its_reason(changes, match):
-    with pytest.raises(KinectBallError, match=match):
+    with pytest.raises(NubotCommonError, match=match):
         cloud_from_msg(_msg(**changes))
 
 

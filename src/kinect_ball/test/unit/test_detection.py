@@ -4,8 +4,8 @@ candidate clusters, bad clouds and a ball partly out of view."""
 import numpy as np
 import pytest
 
-from kinect_ball.conversions import Cloud
 from kinect_ball.detection import DetectionParams, detect_ball, fit_sphere, sphere_hypotheses
+from nubot_common.clouds import Cloud
 
 from .scenes import RADIUS, cap_points, render
 

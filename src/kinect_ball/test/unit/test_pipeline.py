@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from kinect_ball.conversions import Cloud
-from kinect_ball.mount import GOALIE_MOUNTS, CameraMount, body_to_team
 from kinect_ball.pipeline import KinectBall, KinectBallParams
 from nubot_common.ball_flight import GRAVITY, landing
+from nubot_common.clouds import Cloud
 from nubot_common.geometry import Pose2D
+from nubot_common.kinect_mount import GOALIE_MOUNTS, CameraMount, body_to_team
 
 from .scenes import RADIUS, render
 

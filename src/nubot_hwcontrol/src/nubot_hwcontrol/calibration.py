@@ -1,5 +1,5 @@
 """The shooting calibration's files and measurements: (pulse, ball speed) pairs from a CSV (measured on the robot,
-or in the simulator by ``sim_visual.kick_measurements``), and the fitted table as the YAML fragment
+or in the simulator by ``nubot_tools.kick_measurements``), and the fitted table as the YAML fragment
 ``nubot_hwcontrol.yaml`` takes.
 
 CSV: a header ``pulse_ms,speed,lever`` (lever ``flat`` or ``lob``), one kick per row; speed is the ball's

@@ -15,10 +15,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nubot_common.kinematics import GOALIE, REGULAR, BodyLimits, WheelLayout
 from nubot_hwcontrol import HardwareError
 from nubot_hwcontrol.backend import HardwareBackend, HardwareState
 from nubot_hwcontrol.ball_handling import BallHandler, BallHandlingParams
-from nubot_hwcontrol.kinematics import GOALIE, REGULAR, BodyLimits, WheelLayout
 from nubot_hwcontrol.odometry import OdometryEstimate, OdometryParams, WheelOdometry
 from nubot_hwcontrol.shooting import FLAT, LOB, Kicker, KickerParams, ShotCalibration, ShotOrder
 

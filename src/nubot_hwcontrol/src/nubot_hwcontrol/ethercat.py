@@ -22,9 +22,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from nubot_common.kinematics import WheelLayout
 from nubot_hwcontrol import HardwareError
 from nubot_hwcontrol.backend import HardwareBackend, HardwareState
-from nubot_hwcontrol.kinematics import WheelLayout
 
 _SHUTDOWN, _SWITCH_ON, _ENABLE = 0x06, 0x07, 0x0F  # CiA 402 control words
 _FAULT_RESET = 0x80

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from nubot_common.geometry import wrap_angle
+from nubot_common.kinematics import WheelLayout
 from nubot_hwcontrol import HardwareError
-from nubot_hwcontrol.kinematics import WheelLayout
 
 _WRAP = 2**32
 

@@ -25,9 +25,9 @@ from typing import Protocol
 
 import numpy as np
 
+from nubot_common.kinematics import WheelLayout
 from nubot_hwcontrol import HardwareError
 from nubot_hwcontrol.backend import HardwareBackend, HardwareState
-from nubot_hwcontrol.kinematics import WheelLayout
 
 
 class DriveWorld(Protocol):

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from nubot_hwcontrol.kinematics import WheelLayout
+from nubot_common.kinematics import WheelLayout
 
 _GROUND, _LOB = -1, 1  # the simulator's Shoot.ShootPos
 

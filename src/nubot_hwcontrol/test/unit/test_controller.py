@@ -2,9 +2,9 @@ import math
 
 import pytest
 
+from nubot_common.kinematics import REGULAR
 from nubot_hwcontrol import HardwareError
 from nubot_hwcontrol.backend import BACKENDS, make_backend
-from nubot_hwcontrol.kinematics import REGULAR
 from nubot_hwcontrol.sim_drive import SimulatedDrive
 
 

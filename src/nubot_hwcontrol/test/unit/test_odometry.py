@@ -3,8 +3,8 @@ import math
 import numpy as np
 import pytest
 
+from nubot_common.kinematics import GOALIE, REGULAR
 from nubot_hwcontrol import HardwareError
-from nubot_hwcontrol.kinematics import GOALIE, REGULAR
 from nubot_hwcontrol.odometry import OdometryParams, WheelOdometry
 
 

@@ -4,5 +4,6 @@ Modules: ``match_plots`` (heat map and trajectories), ``match_report`` (the repo
 with ``rosbags``), ``workspace`` (the repository's folders for matches and benchmarks). The
 statistics of a match (``match_analysis``, ``match_shots``) live in ``nubot_match``, which uses them; the
 ROS process groups (``processes``) and launch checks the tests share in ``nubot_common``. Each script in the workspace's
-``scripts/`` only calls one of these.
+``scripts/`` only calls one of these; the tools that need both the simulator and a robot package
+(``front_calibration``, ``kick_measurements``) are this package's nodes (``rosrun nubot_tools ...``).
 """

@@ -28,8 +28,8 @@ from typing import Any
 import cv2
 import numpy as np
 
-from front_vision.camera_model import PinholeCamera, load_camera
 from front_vision.pipeline import FrontVision
+from nubot_common.camera_model import PinholeCamera, load_camera
 from nubot_common.world_description import WorldDescription
 from nubot_tools.bench_lockstep import cpu_pressure, machine, pinned
 from nubot_tools.workspace import WORKSPACE

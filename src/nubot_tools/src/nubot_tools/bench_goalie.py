@@ -33,8 +33,8 @@ from typing import Any
 
 import numpy as np
 
-from kinect_ball.conversions import Cloud
 from kinect_ball.pipeline import KinectBall, KinectBallParams
+from nubot_common.clouds import Cloud
 from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import MatchMode
 from nubot_common.naming import parse_robot_name

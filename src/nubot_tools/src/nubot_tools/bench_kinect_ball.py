@@ -45,10 +45,10 @@ from typing import Any
 import genpy
 import numpy as np
 
-from kinect_ball.conversions import cloud_from_msg, cloud_msg
 from kinect_ball.detection import fit_sphere
 from kinect_ball.pipeline import KinectBall, KinectBallParams
 from nubot_common.ball_flight import landing
+from nubot_common.clouds import cloud_from_msg, cloud_msg
 from nubot_common.geometry import Pose2D
 from nubot_common.params import load_yaml
 from nubot_common.world_description import load_world
@@ -288,7 +288,7 @@ def run(args: argparse.Namespace) -> tuple[dict[str, Any], list[LobRecord]]:
     at_lead = next(c for c in touchdown["curve"] if abs(c["tau_s"] - LEAD) < 1e-6)
     results = {
         "machine": machine(cpu), "seed": args.seed, "field": world.name, "lobs": lobs,
-        "camera": {"resolution": "128 x 106", "mounts": "kinect_ball.mount.GOALIE_MOUNTS"},
+        "camera": {"resolution": "128 x 106", "mounts": "nubot_common.kinect_mount.GOALIE_MOUNTS"},
         "frame_time_ms": {**frame, "target_median_ms": TARGET_FRAME_MEDIAN_MS,
                           "met": frame["median"] is not None and frame["median"] <= TARGET_FRAME_MEDIAN_MS},
         "render_time_ms": summary([ms for r in records for ms in r.render_ms], 1.0, 3),

@@ -510,7 +510,7 @@ def record_cameras(seeds: list[int], seconds: float, period: float = 0.3, cylind
       the ball (``ranges``, ragged) and the SHA-256 of all the ranges' bytes (``ranges_sha``)."""
     import hashlib
 
-    from kinect_ball.mount import CameraMount
+    from nubot_common.kinect_mount import CameraMount
     from nubot_common.world_description import WorldDescription
     from nubot_match.config import match_config
     from nubot_match.engine import LockstepMatch

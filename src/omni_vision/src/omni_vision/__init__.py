@@ -1,9 +1,10 @@
 """omni_vision: the omni-directional camera's vision (chapter 4.1), a pure core and a thin node.
 
-Modules: ``mirror`` (the mirror model), ``colors`` (the YUV colour lookup table and its calibration),
+Modules: ``colors`` (the YUV colour lookup table and its calibration),
 ``lines`` (white line points on radial scan lines), ``objects`` (ball and obstacles), ``localization``
 (matching optimisation against the field's distance map, global localization, Kalman tracking with
-odometry) and ``pipeline`` (one frame: image in, percepts out).
+odometry) and ``pipeline`` (one frame: image in, percepts out). The mirror model, the colour classes and the
+image messages are ``nubot_common.mirror``, ``color_class`` and ``images``, shared with the simulator.
 """
 
 

@@ -20,9 +20,11 @@ from typing import Any
 import cv2
 import numpy as np
 
+from nubot_common import NubotCommonError
+from nubot_common.color_class import ColorClass
+from nubot_common.images import image_to_array
 from omni_vision import OmniVisionError
-from omni_vision.colors import CalibrationParams, ColorClass, ColorTable
-from omni_vision.conversions import image_to_array
+from omni_vision.colors import CalibrationParams, ColorTable
 
 IMAGE_TOPIC_END = "/camera/image_raw"
 LABELS_TOPIC_END = "/camera/labels"
@@ -115,7 +117,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         table, count = calibrate_file(args.source, args.out, CalibrationParams(fill_distance=args.fill_distance))
-    except OmniVisionError as exc:
+    except (NubotCommonError, OmniVisionError) as exc:  # a bad image or table
         print(f"calibrate_colors: {exc}", file=sys.stderr)
         return 2
     cells = np.bincount(table.table.ravel(), minlength=len(ColorClass))

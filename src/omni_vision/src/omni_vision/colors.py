@@ -30,7 +30,6 @@ import zipfile
 import zlib
 from collections.abc import Iterable
 from dataclasses import dataclass
-from enum import IntEnum
 from functools import lru_cache
 from pathlib import Path
 
@@ -39,17 +38,9 @@ import numpy as np
 import numpy.typing as npt
 from scipy import ndimage
 
+from nubot_common.color_class import ColorClass
+from nubot_common.mirror import MirrorModel
 from omni_vision import OmniVisionError
-from omni_vision.mirror import MirrorModel
-
-
-class ColorClass(IntEnum):
-    UNKNOWN = 0  # not calibrated, or nothing the vision uses
-    GREEN = 1  # the carpet
-    WHITE = 2  # field lines (and goal frames)
-    BALL = 3  # the ball's colour
-    BLACK = 4  # robots (obstacles) and the robot's own body
-
 
 TABLE_BITS = 6  # bits kept per channel: the table's index is (Y >> 2, U >> 2, V >> 2)
 TABLE_SIDE = 1 << TABLE_BITS  # cells per channel (64)

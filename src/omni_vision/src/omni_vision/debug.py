@@ -14,7 +14,7 @@ import math
 import cv2
 import numpy as np
 
-from omni_vision.colors import ColorClass
+from nubot_common.color_class import ColorClass
 from omni_vision.pipeline import OmniVision, VisionFrame
 
 _CLASS_RGB = {ColorClass.GREEN: (0, 160, 0), ColorClass.WHITE: (255, 255, 255), ColorClass.BALL: (255, 140, 0),

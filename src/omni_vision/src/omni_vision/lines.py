@@ -35,9 +35,10 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from nubot_common.color_class import ColorClass
+from nubot_common.mirror import MirrorModel
 from omni_vision import OmniVisionError
-from omni_vision.colors import ColorClass, ColorTable, ImageCheckParams, check_image
-from omni_vision.mirror import MirrorModel
+from omni_vision.colors import ColorTable, ImageCheckParams, check_image
 
 FloatArray = npt.NDArray[np.float64]
 

@@ -37,10 +37,11 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from nubot_common.color_class import ColorClass
+from nubot_common.mirror import MirrorModel
 from omni_vision import OmniVisionError
-from omni_vision.colors import ColorClass, ColorTable
+from omni_vision.colors import ColorTable
 from omni_vision.lines import RaySamples, ScanRays
-from omni_vision.mirror import MirrorModel
 
 _HALF_PIXEL = 0.5  # an edge lies half a pixel (sample) inwards of the first pixel (sample) past it
 _MIN_EXTENT = 1.0  # [px] the least radial extent a blob can have (one pixel)

@@ -27,13 +27,13 @@ from dataclasses import field as dc_field
 import numpy as np
 
 from nubot_common.geometry import Pose2D, rotate
+from nubot_common.mirror import MirrorModel
 from nubot_common.percepts import BallPercept, RobotReport, RobotView
 from nubot_common.world_description import WorldDescription
 from omni_vision import OmniVisionError
 from omni_vision.colors import ColorTable
 from omni_vision.lines import LineParams, LinePoints, LineScanner
 from omni_vision.localization import LocalizationEstimate, LocalizationParams, SelfLocator
-from omni_vision.mirror import MirrorModel
 from omni_vision.objects import (
     BallDetection,
     BallDetector,

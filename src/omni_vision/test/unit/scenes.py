@@ -22,9 +22,10 @@ from typing import Any
 import cv2
 import numpy as np
 
+from nubot_common.color_class import ColorClass
 from nubot_common.field import FieldGeometry
-from omni_vision.colors import ColorClass, ColorTable
-from omni_vision.mirror import MirrorModel
+from nubot_common.mirror import MirrorModel
+from omni_vision.colors import ColorTable
 
 GREEN_RGB = (40.0, 140.0, 55.0)
 WHITE_RGB = (235.0, 235.0, 230.0)

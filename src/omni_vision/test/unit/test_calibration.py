@@ -10,11 +10,12 @@ import pytest
 from rosbags.rosbag1 import Writer
 from sensor_msgs.msg import Image
 
+from nubot_common.color_class import ColorClass
+from nubot_common.images import array_to_image
 from nubot_common.world_description import load_world
 from omni_vision import OmniVisionError
 from omni_vision.calibration import calibrate_file, main, read_samples
-from omni_vision.colors import ColorClass, ColorTable
-from omni_vision.conversions import array_to_image
+from omni_vision.colors import ColorTable
 from sim_visual.camera_frames import write_frames
 
 WORLD = load_world("18x12")

@@ -4,16 +4,10 @@ import cv2
 import numpy as np
 import pytest
 
+from nubot_common.color_class import ColorClass
+from nubot_common.mirror import MirrorModel
 from omni_vision import OmniVisionError
-from omni_vision.colors import (
-    TABLE_SHAPE,
-    CalibrationParams,
-    ColorClass,
-    ColorTable,
-    ImageCheckParams,
-    check_image,
-)
-from omni_vision.mirror import MirrorModel
+from omni_vision.colors import TABLE_SHAPE, CalibrationParams, ColorTable, ImageCheckParams, check_image
 
 from .scenes import calibrated_table, render, training_scenes
 

@@ -9,11 +9,13 @@ import numpy as np
 import pytest
 from sensor_msgs.msg import Image, Imu
 
+from nubot_common import NubotCommonError
 from nubot_common.geometry import Pose2D, yaw_to_quaternion
+from nubot_common.images import array_to_image, image_to_array
 from nubot_common.msg import LocalizationError
 from nubot_common.percepts import RobotReport, RobotView
 from omni_vision import OmniVisionError
-from omni_vision.conversions import array_to_image, image_to_array, imu_yaw, localization_error_msg
+from omni_vision.conversions import imu_yaw, localization_error_msg
 
 RGB = np.array([[[200, 30, 40], [30, 200, 40], [40, 30, 200]],
                 [[128, 128, 128], [40, 130, 50], [245, 110, 20]]], np.uint8)  # 3 x 2 px
@@ -67,7 +69,7 @@ def test_a_padded_row_step_skips_the_padding():
 def test_an_unsupported_encoding_is_refused_naming_it_and_the_supported_ones(encoding):
     """A grey, Bayer or depth camera is refused with a message naming its encoding and what would work."""
     msg = image_msg(encoding, 2, 3, 9, bytes(18))
-    with pytest.raises(OmniVisionError, match=rf"image encoding '{encoding}' unsupported; use one of rgb8, bgr8, "
+    with pytest.raises(NubotCommonError, match=rf"image encoding '{encoding}' unsupported; use one of rgb8, bgr8, "
                                               r"yuv422"):
         image_to_array(msg)
 
@@ -75,7 +77,7 @@ def test_an_unsupported_encoding_is_refused_naming_it_and_the_supported_ones(enc
 def test_a_data_buffer_shorter_than_the_image_is_refused_with_the_sizes():
     """A truncated message is refused saying how many bytes were needed and how many came."""
     msg = image_msg("rgb8", 2, 3, 9, RGB.tobytes()[:-1])
-    with pytest.raises(OmniVisionError, match=r"image of 3 x 2 px \(rgb8\) needs 18 B, got 17"):
+    with pytest.raises(NubotCommonError, match=r"image of 3 x 2 px \(rgb8\) needs 18 B, got 17"):
         image_to_array(msg)
 
 
@@ -83,7 +85,7 @@ def test_a_data_buffer_shorter_than_the_image_is_refused_with_the_sizes():
 def test_an_empty_image_or_a_row_step_below_the_width_is_refused(height, width, step):
     """A zero-size image, or a row step too short for its pixels, is refused with its size and step."""
     msg = image_msg("rgb8", height, width, step, bytes(64))
-    with pytest.raises(OmniVisionError, match=rf"image of {width} x {height} px with row step {step} B: "
+    with pytest.raises(NubotCommonError, match=rf"image of {width} x {height} px with row step {step} B: "
                                               r"not a rgb8 image"):
         image_to_array(msg)
 
@@ -116,7 +118,7 @@ def test_array_to_image_of_a_strided_view_and_of_labels():
 @pytest.mark.parametrize("shape", [(4, 4, 4), (4, 4, 1), (16,)])
 def test_array_to_image_refuses_shapes_that_are_no_rgb_or_grey_image(shape):
     """An RGBA, one-channel 3-D or flat array is refused naming its shape."""
-    with pytest.raises(OmniVisionError, match=r"an image must be H x W x 3 \(RGB\) or H x W \(grey\), got shape"):
+    with pytest.raises(NubotCommonError, match=r"an image must be H x W x 3 \(RGB\) or H x W \(grey\), got shape"):
         array_to_image(np.zeros(shape, np.uint8), Image, genpy.Time())
 
 

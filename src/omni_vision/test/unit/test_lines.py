@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from nubot_common.field import FieldGeometry
+from nubot_common.mirror import MirrorModel
 from omni_vision import OmniVisionError
 from omni_vision.lines import LineParams, LineScanner, ScanRays, find_runs
-from omni_vision.mirror import MirrorModel
 
 from .scenes import ArcLine, Scene, _arc_distance, _segment_distance, calibrated_table, field_scene, render
 

@@ -6,10 +6,10 @@ import cv2
 import numpy as np
 import pytest
 
+from nubot_common.color_class import ColorClass
+from nubot_common.mirror import MirrorModel
 from omni_vision import OmniVisionError
-from omni_vision.colors import ColorClass
 from omni_vision.lines import LineScanner, ScanRays
-from omni_vision.mirror import MirrorModel
 from omni_vision.objects import (
     BallDetector,
     BallParams,

@@ -1,7 +1,7 @@
 """The simulated front camera's parameters (``FrontCameraParams``), apart from its renderer so that reading a
 simulator configuration does not load OpenCV's scene drawing.
 
-Parameters: the true camera (``front_vision.camera_model.PinholeCamera``: intrinsics, distortion, mount on the
+Parameters: the true camera (``nubot_common.camera_model.PinholeCamera``: intrinsics, distortion, mount on the
 robot), pixel noise [grey levels, 0-255], the ground texture's resolution [m/texel], how far the camera sees
 the ground [m] (beyond: the surroundings' colour), and the shading of the ball and the robots (the light
 comes from above: brightness ``ambient`` + (1 - ``ambient``) x the surface normal's upward component). The
@@ -14,7 +14,7 @@ import math
 from dataclasses import dataclass
 from dataclasses import field as dc_field
 
-from front_vision.camera_model import PinholeCamera
+from nubot_common.camera_model import PinholeCamera
 from sim_visual.camera_params import MAX_NOISE_STD
 
 

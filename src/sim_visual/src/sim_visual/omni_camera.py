@@ -46,10 +46,10 @@ from statistics import NormalDist
 import cv2
 import numpy as np
 
+from nubot_common.color_class import ColorClass
 from nubot_common.field import FieldGeometry
+from nubot_common.mirror import MirrorModel
 from nubot_common.world_description import WorldDescription
-from omni_vision.colors import ColorClass
-from omni_vision.mirror import MirrorModel
 from sim_visual.camera_params import RGB, OmniCameraParams
 from sim_visual.world import BallState, RobotState
 

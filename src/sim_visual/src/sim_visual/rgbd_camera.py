@@ -2,7 +2,7 @@
 
 Requires: the match's ``WorldDescription`` (field, goals, ball and robot bodies), ``RgbdCameraParams`` (the
 cameras' resolution, field of view, range, noise, missing returns, colours and their mounts on the robot,
-``kinect_ball.mount``) and, per frame, the true states of the robot, the ball and the other robots, the sim time
+``nubot_common.kinect_mount``) and, per frame, the true states of the robot, the ball and the other robots, the sim time
 and the sensors' generator. Provides: ``RgbdCameraRenderer.render`` -> one ``RgbdFrame`` per camera: an organised
 cloud (height x width x 3 float32 [m] in the camera's frame: x along the optical axis, y left, z up; NaN where
 there is no return) and its colours (height x width x 3 uint8 RGB).
@@ -34,8 +34,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from kinect_ball.mount import CAMERAS, GOALIE_MOUNTS, CameraMount, RgbdMounts
 from nubot_common.kernels import load_kernels
+from nubot_common.kinect_mount import CAMERAS, GOALIE_MOUNTS, CameraMount, RgbdMounts
 from nubot_common.params import require_non_negative, require_positive
 from nubot_common.world_description import WorldDescription
 from sim_visual.camera_params import RGB

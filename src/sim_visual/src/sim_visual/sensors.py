@@ -24,8 +24,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from nubot_common.mirror import MirrorModel
 from nubot_common.world_description import WorldDescription
-from omni_vision.mirror import MirrorModel
 from sim_visual.camera_params import OmniCameraParams
 from sim_visual.front_camera_params import FrontCameraParams
 from sim_visual.odometry import (

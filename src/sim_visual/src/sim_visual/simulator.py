@@ -67,7 +67,7 @@ _LOB_LIFT = 0.01  # a lobbed ball starts this far above the carpet [m]
 
 
 class WheelBase(Protocol):
-    """A wheel layout (``nubot_hwcontrol.kinematics.WheelLayout``): body velocity to rim speeds and back."""
+    """A wheel layout (``nubot_common.kinematics.WheelLayout``): body velocity to rim speeds and back."""
 
     def wheel_speeds(self, vx: float, vy: float, w: float) -> np.ndarray: ...
 

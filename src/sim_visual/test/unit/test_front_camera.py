@@ -9,7 +9,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from front_vision import FrontVisionError
 from nubot_common import NubotCommonError
 from nubot_common.params import from_mapping
 from nubot_common.world_description import WorldDescription
@@ -101,6 +100,6 @@ def test_front_camera_parameters_are_read_from_the_simulator_configuration() -> 
         from_mapping(SimConfig, {"sensors": {"front_camera": {"camera": {"pitch_deg": 120.0}}}})
     with pytest.raises(ValueError, match="max_range"):
         FrontCameraParams(max_range=0.1)
-    with pytest.raises(FrontVisionError, match="fx"):
+    with pytest.raises(NubotCommonError, match="fx"):
         replace(FrontCameraParams().camera, fx=0.0)
     assert math.isfinite(FrontCameraParams().camera.fx)

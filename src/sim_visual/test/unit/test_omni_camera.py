@@ -6,10 +6,10 @@ import cv2
 import numpy as np
 import pytest
 
+from nubot_common.color_class import ColorClass
+from nubot_common.mirror import MirrorModel
 from nubot_common.params import from_mapping
 from nubot_common.world_description import WorldDescription
-from omni_vision.colors import ColorClass
-from omni_vision.mirror import MirrorModel
 from sim_visual.camera_params import OmniCameraParams
 from sim_visual.omni_camera import OmniCameraRenderer
 from sim_visual.world import BallState, RobotState

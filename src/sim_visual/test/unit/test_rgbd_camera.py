@@ -6,7 +6,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from kinect_ball.mount import GOALIE_MOUNTS
+from nubot_common.kinect_mount import GOALIE_MOUNTS
 from nubot_common.world_description import WorldDescription
 from sim_visual.params import RobotSpawn, SimConfig
 from sim_visual.rgbd_camera import BALL, GOAL, GROUND, LINE, NONE, ROBOT, RgbdCameraParams, RgbdCameraRenderer

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from nubot_hwcontrol.kinematics import GOALIE, REGULAR
+from nubot_common.kinematics import GOALIE, REGULAR
 from sim_visual import SimVisualError
 
 

@@ -1,4 +1,4 @@
-"""The kicker's calibration measured in the simulator (sim_visual.kick_measurements) and fitted by
+"""The kicker's calibration measured in the simulator (nubot_tools.kick_measurements) and fitted by
 nubot_hwcontrol."""
 
 import numpy as np
@@ -6,7 +6,7 @@ import pytest
 
 from nubot_hwcontrol.calibration import calibration_yaml, read_measurements, write_measurements
 from nubot_hwcontrol.shooting import fit_calibration
-from sim_visual.kick_measurements import main, simulated_kicks
+from nubot_tools.kick_measurements import main, simulated_kicks
 
 
 def test_calibrating_the_simulated_kicker_makes_flat_shots_as_fast_as_asked(tmp_path):

@@ -1,7 +1,7 @@
-"""``rosrun sim_visual calibrate_front_camera``: the simulated front camera calibrated from views it renders itself
+"""``rosrun nubot_tools calibrate_front_camera``: the simulated front camera calibrated from views it renders itself
 (its renderer, its true camera and noise), by front_vision's calibration, as a real camera is from its pictures
-(``rosrun front_vision calibrate``: the same arguments and camera YAML). It lives with the simulator, which stands
-above front_vision (it renders through front_vision's camera model).
+(``rosrun front_vision calibrate``: the same arguments and camera YAML). A tool above both the simulator and
+front_vision: the robot's vision needs no simulator.
 
 Requires: the simulated camera's ``FrontCameraParams``, a ``Chessboard`` for the intrinsics and one for the ground,
 the ground placements and a seed. Provides ``board_views`` (the board held at random poses in front of the camera,
@@ -106,7 +106,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"calibrate_front_camera: {exc}", file=sys.stderr)
         return 2
     source = f"rendered by the simulated front camera (seed {args.seed}): {args.views} views of the held board"
-    return calibrate_and_write(views, ground, placements, args, source, "rosrun sim_visual calibrate_front_camera")
+    return calibrate_and_write(views, ground, placements, args, source, "rosrun nubot_tools calibrate_front_camera")
 
 
 def camera_params(path: Path | None) -> FrontCameraParams:

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from omni_vision.mirror import MirrorModel
+from nubot_common.mirror import MirrorModel
 
 MIRROR = MirrorModel()
 

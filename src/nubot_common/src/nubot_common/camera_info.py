@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import math
 
-from front_vision import FrontVisionError
-from front_vision.camera_model import PinholeCamera
+from nubot_common import NubotCommonError
+from nubot_common.camera_model import PinholeCamera
 
 
 def camera_info_msg(camera: PinholeCamera, msg_type, stamp, frame_id: str = ""):  # noqa: ANN001, ANN201
@@ -29,14 +29,14 @@ def camera_info_msg(camera: PinholeCamera, msg_type, stamp, frame_id: str = ""):
 
 
 def camera_intrinsics(msg) -> dict[str, object]:  # noqa: ANN001 (a sensor_msgs/CameraInfo)
-    """The intrinsics of a CameraInfo (width, height, fx, fy, cx, cy, distortion); raise ``FrontVisionError`` for
+    """The intrinsics of a CameraInfo (width, height, fx, fy, cx, cy, distortion); raise ``NubotCommonError`` for
     another distortion model or values that are no camera."""
     if msg.distortion_model not in ("plumb_bob", "") or len(msg.D) not in (0, 5) or len(msg.K) != 9:
-        raise FrontVisionError(f"camera info: need plumb_bob distortion (5 values) and a 3 x 3 K, got "
+        raise NubotCommonError(f"camera info: need plumb_bob distortion (5 values) and a 3 x 3 K, got "
                                f"{msg.distortion_model!r} with {len(msg.D)} and {len(msg.K)} values")
     values = [float(v) for v in list(msg.K) + list(msg.D)]
     if not all(math.isfinite(v) for v in values):
-        raise FrontVisionError("camera info: K and D must be finite")
+        raise NubotCommonError("camera info: K and D must be finite")
     d = tuple(float(v) for v in msg.D) if len(msg.D) == 5 else (0.0,) * 5
     return {"width": int(msg.width), "height": int(msg.height), "fx": float(msg.K[0]), "fy": float(msg.K[4]),
             "cx": float(msg.K[2]), "cy": float(msg.K[5]), "distortion": d}

@@ -1,11 +1,11 @@
-"""The simulated front camera calibrated from the views it renders (sim_visual.front_calibration)."""
+"""The simulated front camera calibrated from the views it renders (nubot_tools.front_calibration)."""
 
 from __future__ import annotations
 
 import pytest
 
-from front_vision.camera_model import load_camera
-from sim_visual.front_calibration import main as calibrate_main
+from nubot_common.camera_model import load_camera
+from nubot_tools.front_calibration import main as calibrate_main
 from sim_visual.front_camera_params import FrontCameraParams
 
 CAMERA = FrontCameraParams().camera

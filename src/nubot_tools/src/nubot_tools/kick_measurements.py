@@ -1,9 +1,9 @@
-"""``rosrun sim_visual simulate_kicks kicks.csv``: the kicker's calibration measurements taken in the simulator.
+"""``rosrun nubot_tools simulate_kicks kicks.csv``: the kicker's calibration measurements taken in the simulator.
 
 On the robot a team kicks a held ball at a range of solenoid pulses and measures the ball's speed after each; this
 does the same with a fresh simulator per kick (the simulated drive of ``nubot_hwcontrol`` firing its solenoid) and
-writes the CSV that ``rosrun nubot_hwcontrol fit_shot_calibration`` fits. It lives with the simulator, which stands
-above hardware control (it moves robots with the hardware's wheel kinematics). Exit status 2 on a bad argument.
+writes the CSV that ``rosrun nubot_hwcontrol fit_shot_calibration`` fits. A tool above both the simulator and
+hardware control: the robot's hardware control needs no simulator. Exit status 2 on a bad argument.
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from nubot_common import NubotCommonError
 from nubot_hwcontrol import HardwareError
 from nubot_hwcontrol.calibration import LEVERS, write_measurements
 from nubot_hwcontrol.controller import HwControlParams
@@ -50,7 +51,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         rows = [(p, v, lever) for lever in LEVERS for p, v in simulated_kicks(pulses, lever == "lob", args.seed)]
         write_measurements(args.measurements, rows)
-    except (HardwareError, OSError) as exc:
+    except (NubotCommonError, HardwareError, OSError) as exc:
         print(f"simulate_kicks: {exc}", file=sys.stderr)
         return 2
     print(f"measured {len(rows)} simulated kicks into {args.measurements}")

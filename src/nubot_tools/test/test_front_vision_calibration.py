@@ -8,11 +8,12 @@ import pytest
 from front_vision import FrontVisionError
 from front_vision.calibrate_tool import main as calibrate_main
 from front_vision.calibration import Chessboard, GroundPlacement, calibrate, find_corners
-from front_vision.camera_model import load_camera
-from sim_visual.front_calibration import board_views, ground_views
+from nubot_common.camera_model import load_camera
+from nubot_tools.front_calibration import board_views, ground_views
+from sim_visual.front_camera_params import FrontCameraParams
 
-from .scenes import CAMERA, PARAMS
-
+PARAMS = FrontCameraParams()
+CAMERA = PARAMS.camera  # the simulated camera's truth
 BOARD = Chessboard()
 GROUND_BOARD = Chessboard(7, 4, 0.10)
 PLACEMENTS = [GroundPlacement(0.95, 0.0, -90.0), GroundPlacement(1.25, 0.0, -90.0)]

@@ -20,7 +20,7 @@ from functools import cached_property
 
 import numpy as np
 
-from nubot_hwcontrol import HardwareError
+from nubot_common import NubotCommonError
 
 
 @dataclass(frozen=True)
@@ -33,16 +33,16 @@ class WheelLayout:
 
     def __post_init__(self) -> None:
         if len(self.wheel_angles_deg) < 3:
-            raise HardwareError(f"a holonomic base needs at least 3 wheels, got {len(self.wheel_angles_deg)}")
+            raise NubotCommonError(f"a holonomic base needs at least 3 wheels, got {len(self.wheel_angles_deg)}")
         values = (*self.wheel_angles_deg, self.wheel_distance, self.wheel_diameter, self.gear_ratio,
                   self.max_motor_rpm)
         if not all(math.isfinite(v) for v in values):
-            raise HardwareError(f"wheel layout values must be finite, got {values}")
+            raise NubotCommonError(f"wheel layout values must be finite, got {values}")
         for name in ("wheel_distance", "wheel_diameter", "gear_ratio", "max_motor_rpm"):
             if getattr(self, name) <= 0.0:
-                raise HardwareError(f"wheel layout: {name} must be positive, got {getattr(self, name)}")
+                raise NubotCommonError(f"wheel layout: {name} must be positive, got {getattr(self, name)}")
         if np.linalg.matrix_rank(self.matrix) < 3:
-            raise HardwareError(f"wheels at {self.wheel_angles_deg} deg cannot move the base in every direction")
+            raise NubotCommonError(f"wheels at {self.wheel_angles_deg} deg cannot move the base in every direction")
 
     @property
     def wheels(self) -> int:
@@ -71,7 +71,7 @@ class WheelLayout:
         """The body velocity that best explains the wheels' rim speeds (least squares)."""
         speeds = np.asarray(rim_speeds, dtype=float)
         if speeds.shape != (self.wheels,):
-            raise HardwareError(f"expected {self.wheels} wheel speeds, got shape {speeds.shape}")
+            raise NubotCommonError(f"expected {self.wheels} wheel speeds, got shape {speeds.shape}")
         vx, vy, w = self._pseudo_inverse @ speeds
         return float(vx), float(vy), float(w)
 
@@ -106,12 +106,12 @@ class BodyLimits:
 
     def __post_init__(self) -> None:
         if not (self.max_speed > 0.0 and self.max_rotation > 0.0):
-            raise HardwareError(f"body limits must be positive, got {self.max_speed}, {self.max_rotation}")
+            raise NubotCommonError(f"body limits must be positive, got {self.max_speed}, {self.max_rotation}")
 
     def apply(self, vx: float, vy: float, w: float) -> tuple[float, float, float]:
         """Clip the speed (keeping the direction) and the rotation; refuses a command that is not finite."""
         if not all(math.isfinite(v) for v in (vx, vy, w)):
-            raise HardwareError(f"velocity command must be finite, got ({vx}, {vy}, {w})")
+            raise NubotCommonError(f"velocity command must be finite, got ({vx}, {vy}, {w})")
         speed = math.hypot(vx, vy)
         if speed > self.max_speed:
             vx, vy = vx * self.max_speed / speed, vy * self.max_speed / speed

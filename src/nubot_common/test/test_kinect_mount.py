@@ -1,11 +1,11 @@
-"""Unit tests of kinect_ball.mount: the cameras' fixed transforms into the body frame and the team frame."""
+"""Unit tests of nubot_common.kinect_mount: the cameras' fixed transforms into the body frame and the team frame."""
 
 import math
 
 import numpy as np
 import pytest
 
-from kinect_ball.mount import GOALIE_MOUNTS, CameraMount, body_to_team
+from nubot_common.kinect_mount import GOALIE_MOUNTS, CameraMount, body_to_team
 
 
 def test_the_optical_axis_points_along_yaw_and_pitch():

@@ -3,8 +3,8 @@ import math
 import numpy as np
 import pytest
 
-from nubot_hwcontrol import HardwareError
-from nubot_hwcontrol.kinematics import GOALIE, REGULAR, BodyLimits, WheelLayout
+from nubot_common import NubotCommonError
+from nubot_common.kinematics import GOALIE, REGULAR, BodyLimits, WheelLayout
 
 VELOCITIES = [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 2.0), (1.3, -0.7, 0.9), (-2.0, 1.5, -3.0)]
 
@@ -61,7 +61,7 @@ def test_body_limits_clip_speed_keeping_direction_and_refuse_nan():
     limits = BodyLimits(max_speed=5.0, max_rotation=12.0)
     vx, vy, w = limits.apply(6.0, 8.0, -20.0)
     assert math.hypot(vx, vy) == pytest.approx(5.0) and vy / vx == pytest.approx(8.0 / 6.0) and w == -12.0
-    with pytest.raises(HardwareError, match="finite"):
+    with pytest.raises(NubotCommonError, match="finite"):
         limits.apply(float("nan"), 0.0, 0.0)
 
 
@@ -72,10 +72,10 @@ def test_body_limits_clip_speed_keeping_direction_and_refuse_nan():
     ({"gear_ratio": float("inf")}, "finite"),
 ])
 def test_a_layout_that_cannot_drive_is_refused(kwargs, message):
-    with pytest.raises(HardwareError, match=message):
+    with pytest.raises(NubotCommonError, match=message):
         WheelLayout(**kwargs)
 
 
 def test_body_velocity_refuses_the_wrong_number_of_wheels():
-    with pytest.raises(HardwareError, match="expected 4 wheel speeds"):
+    with pytest.raises(NubotCommonError, match="expected 4 wheel speeds"):
         REGULAR.body_velocity(np.zeros(3))

@@ -26,7 +26,6 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from front_vision import FrontVisionError
 from nubot_common import NubotCommonError
 from nubot_common.params import from_mapping, to_mapping
 
@@ -69,23 +68,23 @@ class PinholeCamera:
         for name in ("width", "height"):
             value = getattr(self, name)
             if not (isinstance(value, int) and 16 <= value <= 4096):
-                raise FrontVisionError(f"{name} must be an integer in [16, 4096] px, got {value!r}")
+                raise NubotCommonError(f"{name} must be an integer in [16, 4096] px, got {value!r}")
         for name in ("fx", "fy"):
             if not (math.isfinite(getattr(self, name)) and getattr(self, name) > 0.0):
-                raise FrontVisionError(f"{name} must be a positive focal length [px], got {getattr(self, name)}")
+                raise NubotCommonError(f"{name} must be a positive focal length [px], got {getattr(self, name)}")
         if not (0.0 <= self.cx <= self.width and 0.0 <= self.cy <= self.height):
-            raise FrontVisionError(f"the principal point ({self.cx}, {self.cy}) must lie in the image")
+            raise NubotCommonError(f"the principal point ({self.cx}, {self.cy}) must lie in the image")
         if len(self.distortion) != 5 or not all(math.isfinite(k) and abs(k) < 10.0 for k in self.distortion):
-            raise FrontVisionError(f"distortion must be five finite coefficients (k1 k2 p1 p2 k3), |k| < 10, got "
+            raise NubotCommonError(f"distortion must be five finite coefficients (k1 k2 p1 p2 k3), |k| < 10, got "
                                    f"{self.distortion}")
         if len(self.position) != 3 or not all(math.isfinite(p) and abs(p) <= 5.0 for p in self.position):
-            raise FrontVisionError(f"position must be three finite values within 5 m, got {self.position}")
+            raise NubotCommonError(f"position must be three finite values within 5 m, got {self.position}")
         if not self.position[2] > 0.0:
-            raise FrontVisionError(f"the camera must be above the ground (position z > 0), got {self.position[2]}")
+            raise NubotCommonError(f"the camera must be above the ground (position z > 0), got {self.position[2]}")
         for name, bound in (("yaw_deg", 180.0), ("pitch_deg", 89.0), ("roll_deg", 180.0)):
             value = getattr(self, name)
             if not (math.isfinite(value) and -bound <= value <= bound):
-                raise FrontVisionError(f"{name} must lie in [-{bound:g}, {bound:g}] deg, got {value}")
+                raise NubotCommonError(f"{name} must lie in [-{bound:g}, {bound:g}] deg, got {value}")
 
     # --- the model's matrices ------------------------------------------------------------------
     @cached_property
@@ -191,22 +190,19 @@ class PinholeCamera:
 
 
 def load_camera(path: str | Path) -> PinholeCamera:
-    """Read a camera file (``camera_yaml``'s format); raise ``FrontVisionError`` naming the file and the problem."""
+    """Read a camera file (``camera_yaml``'s format); raise ``NubotCommonError`` naming the file and the problem."""
     where = f"camera file {path}"
     try:
         with open(path, encoding="utf-8") as handle:
             data = yaml.safe_load(handle)
     except OSError as exc:
-        raise FrontVisionError(f"{where}: cannot read it ({exc.strerror or exc})") from exc
+        raise NubotCommonError(f"{where}: cannot read it ({exc.strerror or exc})") from exc
     except yaml.YAMLError as exc:
-        raise FrontVisionError(f"{where}: not YAML: {exc}") from exc
+        raise NubotCommonError(f"{where}: not YAML: {exc}") from exc
     if not isinstance(data, dict):
-        raise FrontVisionError(f"{where}: expected a mapping of the camera's parameters")
+        raise NubotCommonError(f"{where}: expected a mapping of the camera's parameters")
     data = data.get("camera", data)
-    try:
-        return from_mapping(PinholeCamera, data, where)
-    except NubotCommonError as exc:
-        raise FrontVisionError(str(exc)) from exc
+    return from_mapping(PinholeCamera, data, where)
 
 
 def camera_yaml(camera: PinholeCamera, comment: str = "") -> str:
