@@ -9,12 +9,13 @@ converters in ``nubot_common.conversions`` (``front_ball_info_msg``, ``front_bal
 from __future__ import annotations
 
 import math
+from typing import Any
 
 from nubot_common import NubotCommonError
 from nubot_common.camera_model import PinholeCamera
 
 
-def camera_info_msg(camera: PinholeCamera, msg_type, stamp, frame_id: str = ""):  # noqa: ANN001, ANN201
+def camera_info_msg(camera: PinholeCamera, msg_type: type[Any], stamp: Any, frame_id: str = "") -> Any:
     """A ``msg_type`` (sensor_msgs/CameraInfo) of ``camera``'s intrinsics."""
     msg = msg_type()
     msg.header.stamp = stamp
@@ -28,7 +29,7 @@ def camera_info_msg(camera: PinholeCamera, msg_type, stamp, frame_id: str = ""):
     return msg
 
 
-def camera_intrinsics(msg) -> dict[str, object]:  # noqa: ANN001 (a sensor_msgs/CameraInfo)
+def camera_intrinsics(msg: Any) -> dict[str, object]:  # a sensor_msgs/CameraInfo
     """The intrinsics of a CameraInfo (width, height, fx, fy, cx, cy, distortion); raise ``NubotCommonError`` for
     another distortion model or values that are no camera."""
     if msg.distortion_model not in ("plumb_bob", "") or len(msg.D) not in (0, 5) or len(msg.K) != 9:

@@ -24,9 +24,11 @@ from functools import cached_property
 from pathlib import Path
 
 import numpy as np
+import numpy.typing as npt
 import yaml
 
 from nubot_common import NubotCommonError
+from nubot_common.arrays import FloatArray
 from nubot_common.params import from_mapping, to_mapping
 
 # A camera looking straight ahead: columns are the camera's x (right), y (down), z (optical axis) in the body.
@@ -35,17 +37,17 @@ _UNDISTORT = (3, 40, 1e-10)  # OpenCV's TERM_CRITERIA_COUNT | TERM_CRITERIA_EPS,
 _MIN_DEPTH = 1e-6  # [m] camera-frame depth below which a point is not ahead of the lens
 
 
-def _rz(a: float) -> np.ndarray:
+def _rz(a: float) -> FloatArray:
     c, s = math.cos(a), math.sin(a)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
-def _ry(a: float) -> np.ndarray:
+def _ry(a: float) -> FloatArray:
     c, s = math.cos(a), math.sin(a)
     return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
-def _rx(a: float) -> np.ndarray:
+def _rx(a: float) -> FloatArray:
     c, s = math.cos(a), math.sin(a)
     return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
 
@@ -88,28 +90,29 @@ class PinholeCamera:
 
     # --- the model's matrices ------------------------------------------------------------------
     @cached_property
-    def camera_matrix(self) -> np.ndarray:
+    def camera_matrix(self) -> FloatArray:
         """The 3 x 3 intrinsic matrix K."""
         return np.array([[self.fx, 0.0, self.cx], [0.0, self.fy, self.cy], [0.0, 0.0, 1.0]])
 
     @cached_property
-    def dist_coeffs(self) -> np.ndarray:
+    def dist_coeffs(self) -> FloatArray:
         """OpenCV's distortion vector (k1, k2, p1, p2, k3)."""
         return np.array(self.distortion, np.float64)
 
     @cached_property
-    def rotation(self) -> np.ndarray:
+    def rotation(self) -> FloatArray:
         """The 3 x 3 rotation body <- camera (its columns: the camera's axes in the body frame)."""
         yaw, pitch, roll = (math.radians(a) for a in (self.yaw_deg, self.pitch_deg, self.roll_deg))
-        return _rz(yaw) @ _ry(pitch) @ _rx(roll) @ _AHEAD
+        rotation: FloatArray = _rz(yaw) @ _ry(pitch) @ _rx(roll) @ _AHEAD
+        return rotation
 
     @cached_property
-    def origin(self) -> np.ndarray:
+    def origin(self) -> FloatArray:
         """The optical centre in the body frame [m]."""
         return np.array(self.position, np.float64)
 
     @cached_property
-    def extrinsics(self) -> tuple[np.ndarray, np.ndarray]:
+    def extrinsics(self) -> tuple[FloatArray, FloatArray]:
         """(rvec, tvec): body -> camera, as OpenCV's projectPoints takes them."""
         import cv2
 
@@ -123,7 +126,7 @@ class PinholeCamera:
         return 2.0 / (self.fx + self.fy)
 
     @classmethod
-    def from_rotation(cls, rotation: np.ndarray, position: np.ndarray, **intrinsics: object) -> PinholeCamera:
+    def from_rotation(cls, rotation: FloatArray, position: FloatArray, **intrinsics: object) -> PinholeCamera:
         """A camera mounted at ``position`` [m] with the rotation body <- camera ``rotation``; the rest from
         ``intrinsics`` (width, height, fx, fy, cx, cy, distortion)."""
         m = np.asarray(rotation, np.float64) @ _AHEAD.T  # Rz(yaw) Ry(pitch) Rx(roll)
@@ -140,27 +143,30 @@ class PinholeCamera:
                 "cy": self.cy, "distortion": self.distortion}
 
     # --- pixels, rays and the ground -----------------------------------------------------------
-    def normalized(self, uv: np.ndarray) -> np.ndarray:
+    def normalized(self, uv: FloatArray) -> FloatArray:
         """Pixels (N x 2) as undistorted normalized image points (N x 2): x/z, y/z of the camera frame."""
         import cv2
 
         uv = np.asarray(uv, np.float64).reshape(-1, 1, 2)
         if uv.size == 0:
             return np.zeros((0, 2))
-        return cv2.undistortPointsIter(uv, self.camera_matrix, self.dist_coeffs, None, None, _UNDISTORT).reshape(-1, 2)
+        points: FloatArray = cv2.undistortPointsIter(uv, self.camera_matrix, self.dist_coeffs, None, None,
+                                                     _UNDISTORT).reshape(-1, 2)
+        return points
 
-    def pixel_rays(self, uv: np.ndarray) -> np.ndarray:
+    def pixel_rays(self, uv: FloatArray) -> FloatArray:
         """Body-frame unit rays (N x 3) through the pixels ``uv`` (N x 2)."""
         xy = self.normalized(uv)
         rays = np.column_stack([xy, np.ones(len(xy))]) @ self.rotation.T
-        return rays / np.linalg.norm(rays, axis=1, keepdims=True)
+        unit: FloatArray = rays / np.linalg.norm(rays, axis=1, keepdims=True)
+        return unit
 
-    def pixel_grid_rays(self) -> np.ndarray:
+    def pixel_grid_rays(self) -> FloatArray:
         """The body-frame unit ray of every pixel (height x width x 3, float64), row v, column u."""
         v, u = np.mgrid[0:self.height, 0:self.width].astype(np.float64)
         return self.pixel_rays(np.column_stack([u.ravel(), v.ravel()])).reshape(self.height, self.width, 3)
 
-    def project(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def project(self, points: FloatArray) -> tuple[FloatArray, npt.NDArray[np.bool_]]:
         """Body-frame points (N x 3) [m] -> (pixels N x 2, ahead N bool: in front of the lens; pixels of the
         others are meaningless)."""
         points = np.asarray(points, np.float64).reshape(-1, 3)
@@ -171,9 +177,10 @@ class PinholeCamera:
         depth = (points - self.origin) @ self.rotation[:, 2]
         rvec, tvec = self.extrinsics
         uv, _ = cv2.projectPoints(points, rvec, tvec, self.camera_matrix, self.dist_coeffs)
-        return uv.reshape(-1, 2), depth > _MIN_DEPTH
+        pixels: FloatArray = uv.reshape(-1, 2)
+        return pixels, depth > _MIN_DEPTH
 
-    def ray_plane_points(self, rays: np.ndarray, z: float) -> np.ndarray:
+    def ray_plane_points(self, rays: FloatArray, z: float) -> FloatArray:
         """Where body-frame rays (N x 3) from the optical centre meet the plane at height ``z`` [m]: body (x, y)
         N x 2 [m]; NaN for rays that do not reach it ahead."""
         rays = np.asarray(rays, np.float64).reshape(-1, 3)
@@ -181,9 +188,10 @@ class PinholeCamera:
         with np.errstate(divide="ignore", invalid="ignore"):
             t = (z - self.origin[2]) / dz
         t = np.where(np.isfinite(t) & (t > 0.0), t, np.nan)
-        return self.origin[None, :2] + t[:, None] * rays[:, :2]
+        points: FloatArray = self.origin[None, :2] + t[:, None] * rays[:, :2]
+        return points
 
-    def plane_points(self, uv: np.ndarray, z: float = 0.0) -> np.ndarray:
+    def plane_points(self, uv: FloatArray, z: float = 0.0) -> FloatArray:
         """Where the rays of pixels ``uv`` (N x 2) meet the plane at height ``z`` [m] (body (x, y), N x 2 [m];
         NaN where they do not)."""
         return self.ray_plane_points(self.pixel_rays(uv), z)

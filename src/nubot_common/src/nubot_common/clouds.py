@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from nubot_common import NubotCommonError
+from nubot_common.arrays import FloatArray
 
 FLOAT32, FLOAT64, UINT32 = 7, 8, 6  # sensor_msgs/PointField datatypes
 _XYZ_TYPES = {FLOAT32: "<f4", FLOAT64: "<f8"}
@@ -24,8 +25,8 @@ MAX_POINTS = 4_000_000  # a cloud with more points than this is refused (a Kinec
 
 @dataclass(frozen=True)
 class Cloud:
-    points: np.ndarray  # N x 3 float [m], camera frame; NaN: no return
-    rgb: np.ndarray  # N x 3 uint8
+    points: FloatArray  # N x 3 float [m], camera frame; NaN: no return
+    rgb: FloatArray  # N x 3 uint8
     shape: tuple[int, int]  # (height, width); height 1 for an unorganised cloud
 
     def __post_init__(self) -> None:
@@ -34,7 +35,7 @@ class Cloud:
                                   f"{self.rgb.shape}")
 
     @classmethod
-    def from_arrays(cls, points: np.ndarray, rgb: np.ndarray) -> Cloud:
+    def from_arrays(cls, points: FloatArray, rgb: FloatArray) -> Cloud:
         """A cloud from organised (H x W x 3) or flat (N x 3) arrays."""
         p, c = np.asarray(points), np.asarray(rgb)
         shape = (p.shape[0], p.shape[1]) if p.ndim == 3 else (1, p.shape[0])
@@ -93,7 +94,7 @@ def cloud_from_msg(msg: Any) -> Cloud:
     return Cloud(points, rgb, (height, width))
 
 
-def cloud_msg(points: np.ndarray, rgb: np.ndarray, msg_type: Any, field_type: Any, stamp: Any,
+def cloud_msg(points: FloatArray, rgb: FloatArray, msg_type: Any, field_type: Any, stamp: Any,
               frame_id: str) -> Any:
     """An organised ``msg_type`` (sensor_msgs/PointCloud2) of H x W x 3 points [m] (NaN: no return) and their
     H x W x 3 uint8 colours: fields x, y, z float32 and rgb packed in a float32 (PCL's layout)."""

@@ -7,14 +7,17 @@ message, with a clear ``NubotCommonError`` for any other encoding or a size that
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from nubot_common import NubotCommonError
+from nubot_common.arrays import ByteArray
 
 SUPPORTED_ENCODINGS = ("rgb8", "bgr8", "yuv422")
 
 
-def image_to_array(msg) -> np.ndarray:  # noqa: ANN001 (a sensor_msgs/Image)
+def image_to_array(msg: Any) -> ByteArray:  # a sensor_msgs/Image
     """The image as RGB ``uint8`` (height x width x 3); raise ``NubotCommonError`` saying what is wrong."""
     encoding = msg.encoding.lower()
     if encoding not in SUPPORTED_ENCODINGS:
@@ -32,12 +35,12 @@ def image_to_array(msg) -> np.ndarray:  # noqa: ANN001 (a sensor_msgs/Image)
 
     if encoding == "rgb8":
         return np.ascontiguousarray(rows.reshape(h, w, 3))
-    if encoding == "bgr8":
-        return cv2.cvtColor(rows.reshape(h, w, 3), cv2.COLOR_BGR2RGB)
-    return cv2.cvtColor(rows.reshape(h, w, 2), cv2.COLOR_YUV2RGB_UYVY)
+    code = cv2.COLOR_BGR2RGB if encoding == "bgr8" else cv2.COLOR_YUV2RGB_UYVY
+    rgb: ByteArray = cv2.cvtColor(rows.reshape(h, w, 3 if encoding == "bgr8" else 2), code)
+    return rgb
 
 
-def array_to_image(array: np.ndarray, msg_type, stamp, frame_id: str = ""):  # noqa: ANN001, ANN201
+def array_to_image(array: ByteArray, msg_type: type[Any], stamp: Any, frame_id: str = "") -> Any:
     """A ``msg_type`` (sensor_msgs/Image) holding ``array``: H x W x 3 as ``rgb8``, H x W as ``mono8``."""
     array = np.ascontiguousarray(array, dtype=np.uint8)
     if array.ndim == 3 and array.shape[2] == 3:

@@ -21,6 +21,8 @@ from dataclasses import field as dc_field
 
 import numpy as np
 
+from nubot_common.arrays import FloatArray
+
 MAX_MOUNT_OFFSET = 1.0  # [m] a camera further than this from the robot's centre is no camera on the robot
 
 
@@ -43,19 +45,20 @@ class CameraMount:
         if not abs(self.pitch_deg) < 90.0:
             raise ValueError(f"pitch_deg must lie in (-90, 90), got {self.pitch_deg}")
 
-    def rotation(self) -> np.ndarray:
+    def rotation(self) -> FloatArray:
         """The 3 x 3 rotation taking camera-frame vectors to body-frame vectors (yaw about z, then pitch up)."""
         yaw, pitch = math.radians(self.yaw_deg), math.radians(self.pitch_deg)
         cy, sy, cp, sp = math.cos(yaw), math.sin(yaw), math.cos(pitch), math.sin(pitch)
         yaw_m = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
         pitch_m = np.array([[cp, 0.0, -sp], [0.0, 1.0, 0.0], [sp, 0.0, cp]])  # x tips up towards +z
-        return yaw_m @ pitch_m
+        rotation: FloatArray = yaw_m @ pitch_m
+        return rotation
 
     @property
-    def offset(self) -> np.ndarray:
+    def offset(self) -> FloatArray:
         return np.array([self.x, self.y, self.z])
 
-    def to_body(self, points: np.ndarray) -> np.ndarray:
+    def to_body(self, points: FloatArray) -> FloatArray:
         """Camera-frame points (N x 3) [m] in the body frame."""
         return np.asarray(points, dtype=float) @ self.rotation().T + self.offset
 
@@ -75,7 +78,7 @@ CAMERAS = ("left", "right")
 GOALIE_MOUNTS = RgbdMounts()
 
 
-def body_to_team(points: np.ndarray, x: float, y: float, theta: float) -> np.ndarray:
+def body_to_team(points: FloatArray, x: float, y: float, theta: float) -> FloatArray:
     """Body-frame points (N x 3) [m] of a robot at (x, y) [m] heading ``theta`` [rad] in the team (or world)
     frame."""
     c, s = math.cos(theta), math.sin(theta)

@@ -21,6 +21,7 @@ from functools import cached_property
 import numpy as np
 
 from nubot_common import NubotCommonError
+from nubot_common.arrays import FloatArray
 
 
 @dataclass(frozen=True)
@@ -49,13 +50,13 @@ class WheelLayout:
         return len(self.wheel_angles_deg)
 
     @cached_property
-    def matrix(self) -> np.ndarray:
+    def matrix(self) -> FloatArray:
         """(wheels x 3): rim speeds = matrix @ (vx, vy, w)."""
         phi = np.radians(np.asarray(self.wheel_angles_deg, dtype=float))
         return np.column_stack([-np.sin(phi), np.cos(phi), np.full(phi.shape, self.wheel_distance)])
 
     @cached_property
-    def _pseudo_inverse(self) -> np.ndarray:
+    def _pseudo_inverse(self) -> FloatArray:
         return np.linalg.pinv(self.matrix)
 
     @property
@@ -63,11 +64,12 @@ class WheelLayout:
         """The rim speed at the motors' limit [m/s]."""
         return self.motor_rpm_to_rim(self.max_motor_rpm)
 
-    def wheel_speeds(self, vx: float, vy: float, w: float) -> np.ndarray:
+    def wheel_speeds(self, vx: float, vy: float, w: float) -> FloatArray:
         """Rim speeds [m/s] for a body velocity (vx, vy [m/s], w [rad/s], body frame)."""
-        return self.matrix @ np.array([vx, vy, w], dtype=float)
+        speeds: FloatArray = self.matrix @ np.array([vx, vy, w], dtype=float)
+        return speeds
 
-    def body_velocity(self, rim_speeds: np.ndarray) -> tuple[float, float, float]:
+    def body_velocity(self, rim_speeds: FloatArray) -> tuple[float, float, float]:
         """The body velocity that best explains the wheels' rim speeds (least squares)."""
         speeds = np.asarray(rim_speeds, dtype=float)
         if speeds.shape != (self.wheels,):
@@ -75,13 +77,13 @@ class WheelLayout:
         vx, vy, w = self._pseudo_inverse @ speeds
         return float(vx), float(vy), float(w)
 
-    def rim_to_motor_rpm(self, rim_speed: np.ndarray | float) -> np.ndarray | float:
+    def rim_to_motor_rpm(self, rim_speed: FloatArray | float) -> FloatArray | float:
         return np.asarray(rim_speed) * (60.0 * self.gear_ratio / (math.pi * self.wheel_diameter))
 
     def motor_rpm_to_rim(self, rpm: float) -> float:
         return float(rpm) * math.pi * self.wheel_diameter / (60.0 * self.gear_ratio)
 
-    def limit(self, rim_speeds: np.ndarray) -> tuple[np.ndarray, float]:
+    def limit(self, rim_speeds: FloatArray) -> tuple[FloatArray, float]:
         """Scale all wheels down together when one exceeds the motors' limit, which keeps the direction of
         motion and the ratio of turning to driving; returns the speeds and the factor (1 if within limits)."""
         speeds = np.asarray(rim_speeds, dtype=float)

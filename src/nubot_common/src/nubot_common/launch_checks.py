@@ -70,10 +70,10 @@ def publishes(topic: str, node: str) -> Callable[[Any], bool]:
 
 def serves(service: str) -> Callable[[Any], bool]:
     """``is_up`` for ``refused_then_up``: someone serves ``service``."""
-    return lambda master: master.lookupService("/t", service)[0] == 1
+    return lambda master: bool(master.lookupService("/t", service)[0] == 1)
 
 
-def launched(launch: Path, *args: str) -> dict[str, dict]:
+def launched(launch: Path, *args: str) -> dict[str, dict[str, Any]]:
     """The nodes a launch file starts with ``args``: namespaced name -> its package, type, command-line arguments,
     remappings and private parameters (parsed by roslaunch; nothing is started and no master is needed)."""
     import roslaunch.config
@@ -90,10 +90,10 @@ def launched(launch: Path, *args: str) -> dict[str, dict]:
     return nodes
 
 
-def nested(node: dict, leave_out: Sequence[str] = ()) -> dict:
+def nested(node: dict[str, Any], leave_out: Sequence[str] = ()) -> dict[str, Any]:
     """A ``launched`` node's private parameters as the nested mapping the node reads from ``~`` (``a/b: 1`` ->
     ``{a: {b: 1}}``), without the launch's own keys (package, type, args, remap) and those in ``leave_out``."""
-    tree: dict = {}
+    tree: dict[str, Any] = {}
     for key, value in node.items():
         if key in LAUNCH_KEYS or key in leave_out:
             continue

@@ -27,6 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nubot_common.arrays import FloatArray
+
 
 @dataclass(frozen=True)
 class MirrorModel:
@@ -72,21 +74,23 @@ class MirrorModel:
                 raise ValueError(f"b r_max must stay below pi/2 (the horizon), got {self.b * self.r_max:.3f}")
 
     # --- radius <-> distance -----------------------------------------------------------------
-    def distance(self, r: np.ndarray | float) -> np.ndarray:
+    def distance(self, r: FloatArray | float) -> FloatArray:
         """Ground distance [m] shown at image radius ``r`` [px] (any radius in [0, r_max])."""
         r = np.asarray(r, dtype=float)
         if self.table:
             radii, dists = zip(*self.table)
             return np.interp(r, radii, dists)
-        return self.a * np.tan(self.b * np.clip(r, 0.0, self.r_max))
+        distance: FloatArray = self.a * np.tan(self.b * np.clip(r, 0.0, self.r_max))
+        return distance
 
-    def radius(self, d: np.ndarray | float) -> np.ndarray:
+    def radius(self, d: FloatArray | float) -> FloatArray:
         """Image radius [px] showing the ground at distance ``d`` [m]; beyond the rim: r_max."""
         d = np.asarray(d, dtype=float)
         if self.table:
             radii, dists = zip(*self.table)
             return np.interp(d, dists, radii)
-        return np.minimum(np.arctan(np.maximum(d, 0.0) / self.a) / self.b, self.r_max)
+        radius: FloatArray = np.minimum(np.arctan(np.maximum(d, 0.0) / self.a) / self.b, self.r_max)
+        return radius
 
     @property
     def min_distance(self) -> float:
@@ -98,7 +102,7 @@ class MirrorModel:
         """The farthest ground distance the mirror shows [m] (at r_max)."""
         return float(self.distance(self.r_max))
 
-    def ground_distance(self, s: np.ndarray | float, z: np.ndarray | float) -> np.ndarray:
+    def ground_distance(self, s: FloatArray | float, z: FloatArray | float) -> FloatArray:
         """Where a point at horizontal distance ``s`` [m] and height ``z`` [m] appears on the ground [m];
         inf for points at or above the viewpoint (not seen)."""
         s, z = np.asarray(s, dtype=float), np.asarray(z, dtype=float)
@@ -108,7 +112,7 @@ class MirrorModel:
                             np.inf)
 
     # --- pixels <-> body frame ------------------------------------------------------------------
-    def pixel_to_body(self, u: np.ndarray | float, v: np.ndarray | float) -> tuple[np.ndarray, np.ndarray]:
+    def pixel_to_body(self, u: FloatArray | float, v: FloatArray | float) -> tuple[FloatArray, FloatArray]:
         """The ground point (x forward, y left) [m] in the robot's body frame shown at pixel (u, v)."""
         du = np.asarray(u, dtype=float) - self.centre_u
         dv = np.asarray(v, dtype=float) - self.centre_v
@@ -118,7 +122,7 @@ class MirrorModel:
             scale = np.where(r > 0.0, d / np.where(r > 0.0, r, 1.0), 0.0)
         return -dv * scale, -du * scale
 
-    def body_to_pixel(self, x: np.ndarray | float, y: np.ndarray | float) -> tuple[np.ndarray, np.ndarray]:
+    def body_to_pixel(self, x: FloatArray | float, y: FloatArray | float) -> tuple[FloatArray, FloatArray]:
         """The pixel (u, v) showing the ground point (x, y) [m] of the body frame (clamped to the rim)."""
         x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
         d = np.hypot(x, y)
@@ -127,7 +131,7 @@ class MirrorModel:
             scale = np.where(d > 0.0, r / np.where(d > 0.0, d, 1.0), 0.0)
         return self.centre_u - y * scale, self.centre_v - x * scale
 
-    def pixel_grid(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def pixel_grid(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         """For every pixel of the image: body-frame ground (x, y) [m] (float32, height x width) and a mask
         of the usable ring (r_min <= r <= r_max)."""
         v, u = np.mgrid[0:self.height, 0:self.width].astype(float)

@@ -120,4 +120,5 @@ def to_mapping(obj: Any) -> dict[str, Any]:
         if isinstance(value, tuple):
             return [plain(v) for v in value]
         return value
-    return plain(obj)
+    result: dict[str, Any] = plain(obj)
+    return result

@@ -31,7 +31,7 @@ from nubot_common.team_play import Point, Role, StrategyReport
 from nubot_common.world_description import WorldDescription
 from nubot_common.world_state import CoachExtras, GameState, WorldState
 from nubot_control.params import ControlParams
-from nubot_control.plugins import strategy_class
+from nubot_control.plugins import StrategyFactory, StrategyPlugin, strategy_class
 from nubot_control.strategy import ControlOutput, Strategy
 from nubot_control.team_state import team_state
 from world_model.params import WorldModelParams
@@ -56,8 +56,8 @@ class Controller:
         self.params = params
         self.world = world
         self.agent_id = agent_id
-        cls = strategy_class(params.strategy) if params.strategy else Strategy
-        self.strategy = cls(params, world, agent_id)
+        cls: StrategyFactory = strategy_class(params.strategy) if params.strategy else Strategy
+        self.strategy: StrategyPlugin = cls(params, world, agent_id)
         self._dribble_on = False
         self._last_request = -math.inf
 

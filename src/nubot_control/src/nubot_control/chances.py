@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nubot_common.arrays import FloatArray
 from nubot_common.field import FieldGeometry
 
 SAMPLES = np.array([-2.0, -1.5, -1.0, -0.5, 0.0, 0.5, 1.0, 1.5, 2.0])  # standard normal quadrature nodes
@@ -66,7 +67,7 @@ def goalie_of(opponents: Sequence[tuple[float, float]], field: FieldGeometry) ->
 
 
 def _in_the_way(bx: float, by: float, ux: float, uy: float, length: float, speed: float,
-                opponents: np.ndarray, p: ChanceParams, over: Sequence[bool]) -> bool:
+                opponents: FloatArray, p: ChanceParams, over: Sequence[bool]) -> bool:
     """Whether an opponent the ball does not fly over (``over``, per opponent) can be in its way before it travels
     ``length`` along (ux, uy): one whose distance from the line is within its reach (robot and ball radius plus its
     move in the time the ball takes to get level with it)."""
@@ -80,7 +81,7 @@ def _in_the_way(bx: float, by: float, ux: float, uy: float, length: float, speed
     return False
 
 
-def _reach_array(t: np.ndarray, p: ChanceParams) -> np.ndarray:
+def _reach_array(t: FloatArray, p: ChanceParams) -> FloatArray:
     """How far [m] an opponent moves in each of the times ``t`` [s] after the kick (reacting, then speeding up to its
     top speed)."""
     t = np.maximum(t - p.reaction, 0.0)

@@ -41,6 +41,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from nubot_common.arrays import FloatArray
 from nubot_common.geometry import Pose2D
 from nubot_common.kernels import load_kernels
 from nubot_common.world_description import WorldDescription
@@ -82,8 +83,8 @@ def keep_clear(position: tuple[float, float], velocity: tuple[float, float], rob
                                float(in_the_way))
 
 
-def obstacle_table(position: tuple[float, float], obstacles: Sequence[tuple[float, ...]], goals: np.ndarray,
-                   robot_radius: float, clearance: float, planning_range: float) -> np.ndarray:
+def obstacle_table(position: tuple[float, float], obstacles: Sequence[tuple[float, ...]], goals: FloatArray,
+                   robot_radius: float, clearance: float, planning_range: float) -> FloatArray:
     """The planner's obstacles this cycle as (k, 3) rows (x, y, radius) [m]: the ``goals``' rows, then each obstacle
     (a robot's (x, y): the robot radius; an (x, y, keep) whose centre must stay ``keep`` from the robot's: the disc
     that leaves that, max(0, keep - robot_radius - clearance)), only the rows within ``planning_range`` of

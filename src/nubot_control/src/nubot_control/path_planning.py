@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from nubot_common.arrays import FloatArray
 from nubot_common.kernels import load_kernels
 from nubot_common.params import require_non_negative, require_positive
 
@@ -119,7 +120,7 @@ def clearance(obstacle: Disc, params: PlannerParams) -> float:
     return params.robot_radius + obstacle.radius + params.safety_margin
 
 
-def _disc_table(obstacles: Sequence[Disc] | np.ndarray) -> np.ndarray:
+def _disc_table(obstacles: Sequence[Disc] | FloatArray) -> FloatArray:
     """The obstacles as (k, 3) rows (x, y, radius) [m]; a table of such rows is taken as it is (the compiled planner
     checks its rows as Disc does)."""
     if isinstance(obstacles, np.ndarray):
@@ -127,7 +128,7 @@ def _disc_table(obstacles: Sequence[Disc] | np.ndarray) -> np.ndarray:
     return np.array([(o.x, o.y, o.radius) for o in obstacles], dtype=float).reshape(-1, 3)
 
 
-def keeps_clear(path: np.ndarray, ends: Sequence[Point], obstacles: Sequence[tuple[float, float, float]] | np.ndarray,
+def keeps_clear(path: FloatArray, ends: Sequence[Point], obstacles: Sequence[tuple[float, float, float]] | FloatArray,
                 margin: float, tolerance: float) -> bool:
     """Whether every point of ``path`` ((n, 2) [m]) stays ``margin`` + radius - ``tolerance`` [m] or farther from
     the centre of each obstacle ((x, y, radius) [m]) whose margin + radius holds none of ``ends`` (the robot and its
@@ -158,10 +159,10 @@ def subtargets(start: Point, goal: Point, obstacles: Sequence[Disc], params: Pla
 class Trajectory:
     """Samples of a planned path about sample_step apart in arc length (arrays read-only)."""
 
-    t: np.ndarray  # (n,) time from the plan's start [s], t[0] == 0, increasing
-    s: np.ndarray  # (n,) arc length [m]
-    xy: np.ndarray  # (n, 2) positions [m]
-    v: np.ndarray  # (n, 2) velocities [m/s]
+    t: FloatArray  # (n,) time from the plan's start [s], t[0] == 0, increasing
+    s: FloatArray  # (n,) arc length [m]
+    xy: FloatArray  # (n, 2) positions [m]
+    v: FloatArray  # (n, 2) velocities [m/s]
     via: tuple[Point, ...]  # the route the spline was fitted through (start, subtargets, waypoints, goal, and
     # the points added along long segments and by the adjustment)
 
@@ -173,7 +174,7 @@ class Trajectory:
     def length(self) -> float:
         return float(self.s[-1])
 
-    def states_at(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def states_at(self, times: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Positions (..., 2) and velocities (..., 2) at the given times; before 0 the start state, after the end
         the end state (standing still when end_speed was 0).
 
@@ -186,7 +187,7 @@ class Trajectory:
         shape = times.shape + (2,)
         return xy.reshape(shape), v.reshape(shape)
 
-    def state_at(self, time: float) -> tuple[np.ndarray, np.ndarray]:
+    def state_at(self, time: float) -> tuple[FloatArray, FloatArray]:
         """Position (2,) and velocity (2,) at ``time`` [s]: ``states_at`` for one time."""
         xy, v = _kernels.trajectory_states(self.t, self.xy, self.v, np.array((time,), dtype=float))
         return xy[0], v[0]
@@ -206,13 +207,13 @@ class Trajectory:
         return float((np.hypot(diff[..., 0], diff[..., 1]) - table[:, 2]).min())
 
 
-def _trajectory(t: np.ndarray, s: np.ndarray, xy: np.ndarray, v: np.ndarray, via: tuple[Point, ...]) -> Trajectory:
+def _trajectory(t: FloatArray, s: FloatArray, xy: FloatArray, v: FloatArray, via: tuple[Point, ...]) -> Trajectory:
     for array in (t, s, xy, v):
         array.setflags(write=False)
     return Trajectory(t, s, xy, v, via)
 
 
-def plan(start: Point, waypoints: Sequence[Point], obstacles: Sequence[Disc] | np.ndarray, params: PlannerParams,
+def plan(start: Point, waypoints: Sequence[Point], obstacles: Sequence[Disc] | FloatArray, params: PlannerParams,
          bounds: Bounds, start_velocity: Point = (0.0, 0.0), end_speed: float = 0.0) -> Trajectory:
     """Route start -> (subtargets) -> waypoints[0] -> (subtargets) -> ... -> waypoints[-1] (the goal), cubic
     B-spline through it, adjusted to keep clearances and bounds, time-parameterised from |start_velocity|

@@ -2,11 +2,12 @@
 
 Requires: a strategy spec, ``"package.module:ClassName"`` (importable from ``sys.path``) or
 ``"path/to/file.py:ClassName"`` (a relative path is taken from ``base``, e.g. the team YAML's folder).
-Provides: ``strategy_class(spec, base)`` -> the class, and ``resolve_spec`` (the spec with an absolute
-file path, so a node started elsewhere finds the same file). The class is built like ``Strategy``:
+Provides: ``strategy_class(spec, base)`` -> the class (a ``StrategyFactory``), ``resolve_spec`` (the spec with an
+absolute file path, so a node started elsewhere finds the same file). The class is built like ``Strategy``:
 ``cls(params: ControlParams, world: WorldDescription, agent_id: int)``, and must offer ``step(TeamState)
 -> ControlOutput`` and the attributes ``role`` and ``role_since`` [s]; subclassing ``Strategy`` and
-overriding its methods gives all of that.
+overriding its methods gives all of that. ``StrategyPlugin`` and ``StrategyFactory`` say it as typing
+``Protocol``s, so a checker holds a strategy of the user's own to them.
 """
 
 from __future__ import annotations
@@ -15,10 +16,36 @@ import importlib
 import importlib.util
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING, Protocol, cast
 
 from nubot_control import NubotControlError
 
+if TYPE_CHECKING:
+    from nubot_common.team_play import Role
+    from nubot_common.world_description import WorldDescription
+    from nubot_control.params import ControlParams
+    from nubot_control.strategy import ControlOutput
+    from nubot_control.team_state import TeamState
+
 REQUIRED = ("step",)  # what a strategy class must define (role and role_since are set by its constructor)
+
+
+class StrategyPlugin(Protocol):
+    """What a robot's strategy offers the control stage: its role and since when [s], and a cycle's decision."""
+
+    role: Role
+    role_since: float
+
+    def step(self, state: TeamState) -> ControlOutput:
+        """One cycle: the team's state (the world model's decision, the robot's own view) in, its commands out."""
+        ...
+
+
+class StrategyFactory(Protocol):
+    """A strategy class: built from the control parameters, the world description and the robot's AgentID."""
+
+    def __call__(self, params: ControlParams, world: WorldDescription, agent_id: int) -> StrategyPlugin:
+        ...
 
 
 def _split(spec: str) -> tuple[str, str]:
@@ -42,7 +69,7 @@ def resolve_spec(spec: str, base: str | Path | None = None) -> str:
     return spec
 
 
-def strategy_class(spec: str, base: str | Path | None = None) -> type:
+def strategy_class(spec: str, base: str | Path | None = None) -> StrategyFactory:
     """Import the class ``spec`` names; raise ``NubotControlError`` saying what is missing."""
     module_name, name = _split(resolve_spec(spec, base))
     key = f"nubot_user_strategy_{abs(hash(module_name))}"
@@ -76,4 +103,4 @@ def strategy_class(spec: str, base: str | Path | None = None) -> type:
     missing = [m for m in REQUIRED if not callable(getattr(cls, m, None))]
     if missing:
         raise NubotControlError(f"strategy {spec!r}: class {name} lacks {', '.join(missing)}")
-    return cls
+    return cast("StrategyFactory", cls)

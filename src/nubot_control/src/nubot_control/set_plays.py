@@ -18,9 +18,11 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from nubot_common.arrays import FloatArray
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import OUR_SET_PLAYS, THEIR_SET_PLAYS, MatchMode
@@ -55,7 +57,7 @@ class KeptFormation:
     instead of following it, and the formation, which searches the field for legal spots, is not made every cycle."""
 
     def __init__(self) -> None:
-        self._made: tuple[tuple, FieldGeometry, PlayParams, float, float, Formation] | None = None
+        self._made: tuple[tuple[Any, ...], FieldGeometry, PlayParams, float, float, Formation] | None = None
 
     def clear(self) -> None:
         self._made = None
@@ -127,7 +129,8 @@ def _ring(ball: FusedBall, field: FieldGeometry, count: int, radius: float) -> l
              ball.y + radius * math.sin(base + (k - (count - 1) / 2.0) * 0.6)) for k in range(count)]
 
 
-def _legal(x, y, ball: FusedBall, radius: float, field: FieldGeometry, penalty_areas: bool):  # floats or arrays
+def _legal(x: Any, y: Any, ball: FusedBall, radius: float, field: FieldGeometry,
+           penalty_areas: bool) -> Any:  # x, y floats or arrays: a bool or a bool array
     """Where a field robot may wait: on the field 0.5 m inside its lines, ``radius`` or more from the ball, and out
     of both penalty areas (or, for the robot playing the ball, both goal areas) by more than the margin the motion
     layer walls them off with (``areas``)."""
@@ -170,7 +173,7 @@ def _spots(ideals: list[tuple[float, float]], ball: FusedBall, radius: float, fi
 
 
 @functools.lru_cache(maxsize=8)
-def _ring_offsets(radius: float) -> tuple[np.ndarray, np.ndarray]:
+def _ring_offsets(radius: float) -> tuple[FloatArray, FloatArray]:
     """Points on rings from ``radius`` to ``radius + 2`` m around the origin, 0.5 m and 5 degrees apart."""
     angle = np.radians(np.arange(0.0, 360.0, 5.0))
     r = radius + np.arange(0.0, 2.01, 0.5)[:, None]

@@ -37,7 +37,7 @@ import functools
 import math
 from collections.abc import Callable
 from dataclasses import replace
-from typing import TYPE_CHECKING, cast
+from typing import TYPE_CHECKING, Any, cast
 
 from nubot_common.kernels import load_kernels
 from nubot_common.percepts import Ball3dPercept, BallPercept, RobotReport, RobotView
@@ -69,7 +69,8 @@ _SENSORS = {int(s): s for s in BallSensor}
 _BallRow = tuple[float, float, float, float, float, bool]  # a ball the core decided: stamp, x, y, vx, vy, known
 # A row of the core's obstacles (LabelledObstacle's fields in order) as the named tuple, without its field-by-field
 # __new__: a dozen every cycle
-_labelled_obstacle = cast(Callable[[tuple], LabelledObstacle], functools.partial(tuple.__new__, LabelledObstacle))
+_labelled_obstacle = cast(Callable[[tuple[Any, ...]], LabelledObstacle],
+                          functools.partial(tuple.__new__, LabelledObstacle))
 _TEAMMATE, _OPPONENT = ObstacleLabel.TEAMMATE, ObstacleLabel.OPPONENT
 
 
