@@ -385,7 +385,7 @@ class AutomaticReferee:
         elif parsed.is_set_play:
             side = None
             if parsed != MatchMode.DROPBALL:
-                side = status.spec.attack if parsed.value % 2 else -status.spec.attack
+                side = status.spec.attack if parsed.is_ours else -status.spec.attack
             self._enter_setup(now, side, _restart_name(parsed))
         else:
             self.phase = Phase.STOPPED

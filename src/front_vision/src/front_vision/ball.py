@@ -14,9 +14,9 @@ A region touching the image border (within ``border_margin``) is a ball partly o
 not known. The region's boundary pixels, undistorted into rays, are the rim of the cone of rays tangent to
 the sphere: the least-squares solution w of r_i . w = 1 gives the cone's axis w/|w| (the ray through the
 ball's centre, free of the perspective shift a blob's centroid has) and its half-angle acos(1/|w|). The
-centre's ray meets the plane z = ``ball_radius`` (a ball on the ground) at the ball's position in the body
-frame. Checks: the region's boundary against the cone's rim (``max_rim_error``: a round region), its area
-against the cone's (``area_ratio_range``), and the height of the centre the
+centre's ray meets the plane z = the ball's radius (the world description's; a ball on the ground) at the ball's
+position in the body frame. Checks: the region's boundary against the cone's rim (``max_rim_error``: a round
+region), its area against the cone's (``area_ratio_range``), and the height of the centre the
 cone's angle gives (distance = radius / sin(half-angle)) against the radius (``max_height_error``): a ball in
 the air would be projected to a wrong place, so it is reported as not known.
 """
@@ -33,6 +33,7 @@ import numpy as np
 from front_vision import FrontVisionError
 from nubot_common.camera_model import PinholeCamera
 from nubot_common.color_class import ColorClass
+from nubot_common.world_description import WorldDescription
 from omni_vision.colors import ColorTable
 
 _REGION = 2  # the flood fill's mark of the grown region (1: pixels that stop it)
@@ -47,7 +48,6 @@ class Sighting(Enum):
 
 @dataclass(frozen=True)
 class BallParams:
-    ball_radius: float = 0.11  # [m]
     seed_step: int = 2  # [px] the grid of pixels classified for seeds
     max_candidates: int = 3  # the largest seed groups grown
     min_pixels: int = 20  # a smaller region is noise
@@ -59,8 +59,6 @@ class BallParams:
     max_rim_error: float = 1.5  # [px] RMS distance of the region's boundary from the fitted cone's rim
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.ball_radius) and 0.01 <= self.ball_radius <= 1.0):
-            raise FrontVisionError(f"ball_radius must be in [0.01, 1] m, got {self.ball_radius}")
         for name, low, high in (("seed_step", 1, 16), ("max_candidates", 1, 20), ("min_pixels", 3, 100000),
                                 ("window_margin", 0, 64), ("grow_tolerance", 0, 255), ("border_margin", 0, 50)):
             value = getattr(self, name)
@@ -113,9 +111,11 @@ def fit_tangent_cone(rays: np.ndarray) -> ConeFit | None:
 class BallLocator:
     """Finds the ball in front-camera frames of one camera."""
 
-    def __init__(self, camera: PinholeCamera, table: ColorTable, params: BallParams | None = None):
+    def __init__(self, camera: PinholeCamera, table: ColorTable, params: BallParams | None = None,
+                 ball_radius: float = WorldDescription().ball.radius):
         self.camera, self.table = camera, table
         self.params = params if params is not None else BallParams()
+        self.ball_radius = ball_radius  # [m] the world's ball (WorldDescription.ball.radius)
 
     def locate(self, rgb: np.ndarray) -> BallSighting:
         """The ball in ``rgb`` (uint8, camera.height x camera.width x 3; checked by the caller)."""
@@ -198,9 +198,10 @@ class BallLocator:
         rim_error = np.sqrt(np.mean((np.arccos(np.clip(rays @ cone.axis, -1.0, 1.0)) - cone.half_angle) ** 2))
         if not low <= area / max(cone_area, 1e-9) <= high or rim_error > p.max_rim_error * cam.angle_per_pixel:
             return BallSighting(Sighting.IMPLAUSIBLE, pixel=pixel, pixels=int(area))
-        height = cam.origin[2] + axis_body[2] * p.ball_radius / max(math.sin(cone.half_angle), 1e-9)
-        ground = cam.ray_plane_points(axis_body[None, :], p.ball_radius)[0]
-        if abs(height - p.ball_radius) > p.max_height_error or not np.all(np.isfinite(ground)):
+        radius = self.ball_radius
+        height = cam.origin[2] + axis_body[2] * radius / max(math.sin(cone.half_angle), 1e-9)
+        ground = cam.ray_plane_points(axis_body[None, :], radius)[0]
+        if abs(height - radius) > p.max_height_error or not np.all(np.isfinite(ground)):
             return BallSighting(Sighting.IMPLAUSIBLE, pixel=pixel, pixels=int(area))
         return BallSighting(Sighting.SEEN, float(ground[0]), float(ground[1]), pixel, int(area))
 

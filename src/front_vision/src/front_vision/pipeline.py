@@ -20,6 +20,7 @@ from front_vision import FrontVisionError
 from front_vision.ball import BallLocator, BallParams, BallSighting, Sighting
 from nubot_common.camera_model import PinholeCamera
 from nubot_common.percepts import BallPercept
+from nubot_common.world_description import WorldDescription
 from omni_vision.colors import ColorTable
 
 
@@ -57,10 +58,12 @@ def check_frame(image: object, camera: PinholeCamera) -> np.ndarray:
 class FrontVision:
     """The front camera's vision of one robot: stateless from frame to frame."""
 
-    def __init__(self, camera: PinholeCamera, table: ColorTable, params: FrontVisionParams | None = None):
+    def __init__(self, camera: PinholeCamera, table: ColorTable, params: FrontVisionParams | None = None,
+                 world: WorldDescription | None = None):
         self.camera = camera
         self.params = params if params is not None else FrontVisionParams()
-        self.locator = BallLocator(camera, table, self.params.ball)
+        self.world = world if world is not None else WorldDescription()
+        self.locator = BallLocator(camera, table, self.params.ball, self.world.ball.radius)
 
     def process(self, t: float, image: object) -> FrontBallResult:
         """The ball in the frame ``image`` taken at ``t`` [s]; raise ``FrontVisionError`` for a bad frame."""

@@ -16,9 +16,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nubot_common.commands import KickKind
 from nubot_hwcontrol import HardwareError
 
-FLAT, LOB = -1, 1  # Shoot.ShootPos
+FLAT, LOB = KickKind.GROUND, KickKind.LOB  # Shoot.ShootPos: the kicker's names for the kinds
 
 
 @dataclass(frozen=True)

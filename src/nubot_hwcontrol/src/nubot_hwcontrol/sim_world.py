@@ -11,9 +11,8 @@ from typing import Any
 
 import numpy as np
 
+from nubot_common.commands import KickKind
 from nubot_common.kinematics import WheelLayout
-
-_GROUND, _LOB = -1, 1  # the simulator's Shoot.ShootPos
 
 
 class SimulatorWorld:
@@ -33,5 +32,5 @@ class SimulatorWorld:
         self.sim.ball_handle(self.name, int(on))
 
     def kick(self, speed: float, lob: bool) -> bool:
-        done, _ = self.sim.shoot(self.name, speed, _LOB if lob else _GROUND)
+        done, _ = self.sim.shoot(self.name, speed, KickKind.LOB if lob else KickKind.GROUND)
         return bool(done)

@@ -72,6 +72,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nubot_common.commands import KickKind
 from nubot_common.field import FieldGeometry
 from nubot_common.naming import is_robot_name, team_of
 from nubot_common.world_description import WorldDescription
@@ -568,7 +569,7 @@ def is_shot(kick: Kick, side: int, field: FieldGeometry, decel: float = 0.0) -> 
         return False
     if math.hypot(side * field.half_length - kick.ball_xy[0], kick.ball_xy[1]) > SHOT_DISTANCE:
         return False
-    if kick.kind == 1:
+    if kick.kind == KickKind.LOB:
         return True
     crossing = shot_line(kick, side, field)
     if crossing is None or abs(crossing[1]) > field.goal_width / 2.0 + SHOT_WIDE_MARGIN:

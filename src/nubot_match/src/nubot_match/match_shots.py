@@ -46,6 +46,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from nubot_common.commands import KickKind
 from nubot_common.field import FieldGeometry
 from nubot_common.naming import team_of
 from nubot_common.world_description import WorldDescription
@@ -164,7 +165,7 @@ class ShotReport:
             return None if d is None else {"robot": d.robot, "xy": xy(d.xy), "line_distance_m": r3(d.line_distance)}
 
         def shot(s: Shot) -> dict:
-            return {"t": r3(s.t), "robot": s.robot, "team": s.team, "kind": "lob" if s.kind == 1 else "flat",
+            return {"t": r3(s.t), "robot": s.robot, "team": s.team, "kind": "lob" if s.kind == KickKind.LOB else "flat",
                     "origin": xy(s.origin), "target": xy(s.target), "speed_mps": r3(s.speed),
                     "distance_m": r3(s.distance), "on_target": s.on_target, "outcome": s.outcome, "by": s.by,
                     "half": s.half}
@@ -373,8 +374,8 @@ def goal_lines(report: ShotReport) -> list[str]:
         if g.shot is not None:
             s = g.shot
             x, y = s.origin_attacking_right()
-            how = (f"{'lob' if s.kind == 1 else 'flat'} {s.speed:.1f} m/s from ({x:+.1f}, {y:+.1f}) attacking +x, "
-                   f"{s.distance:.1f} m out")
+            kind = "lob" if s.kind == KickKind.LOB else "flat"
+            how = f"{kind} {s.speed:.1f} m/s from ({x:+.1f}, {y:+.1f}) attacking +x, {s.distance:.1f} m out"
         else:
             how = "no shot" if g.own_goal else "no shot (pushed in)"
         height = "" if math.isnan(g.height) else f", {g.height:.2f} m high at the line"

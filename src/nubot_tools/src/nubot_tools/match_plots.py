@@ -21,6 +21,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
+from nubot_common.commands import KickKind
 from nubot_common.field import FieldGeometry
 from nubot_common.naming import is_robot_name, team_of
 from nubot_match.match_analysis import Track
@@ -159,9 +160,10 @@ def plot_shot_map(shots: Sequence[Shot], teams: Sequence[str], field: FieldGeome
             marker, colour, size = SHOT_STYLES[s.outcome]
             if s.outcome == "goal":
                 ax.plot([x, hl], [y, s.target[1] * s.side], color="gold", linewidth=0.8, alpha=0.7, zorder=3)
+            lob = s.kind == KickKind.LOB  # lobs hollow
             ax.plot(x, y, marker=marker, markersize=size, linestyle="none", zorder=4,
-                    markerfacecolor="none" if s.kind == 1 else colour, markeredgecolor=colour if s.kind == 1
-                    else "black", markeredgewidth=1.2 if s.kind == 1 else 0.5)
+                    markerfacecolor="none" if lob else colour, markeredgecolor=colour if lob else "black",
+                    markeredgewidth=1.2 if lob else 0.5)
         counts = {o: sum(1 for s in mine if s.outcome == o) for o in SHOT_STYLES}
         ax.set_title(f"{team}: {len(mine)} shots, " + ", ".join(f"{n} {o}" for o, n in counts.items()), fontsize=10)
         ax.set_xlabel("x [m] towards the attacked goal")
