@@ -4,12 +4,16 @@ import pytest
 
 from nubot_common import NubotCommonError
 from nubot_common.naming import (
+    NO_TEAM_COLOUR,
+    TEAM_COLOURS,
     RobotName,
     RobotNodeParams,
     RobotSelection,
     check_team_prefix,
     is_robot_name,
     parse_robot_name,
+    rgb,
+    team_colour,
     team_of,
 )
 from nubot_common.params import from_mapping
@@ -114,3 +118,13 @@ def test_a_selection_that_is_no_text_is_refused(text):
     with pytest.raises(NubotCommonError, match=r"a robot selection is all, nothing or names like nubot1,rival2; "
                                                r"got "):
         RobotSelection.parse(text)
+
+
+def test_a_team_has_one_colour_wherever_it_is_drawn():
+    teams = ["nubot", "rival", "guest"]
+    assert [team_colour(t, teams) for t in teams] == list(TEAM_COLOURS[:3])
+    assert team_colour("rival", ["rival", "nubot"]) == TEAM_COLOURS[0], "the referee's first team is cyan"
+    assert team_colour("nobody", teams) == NO_TEAM_COLOUR
+    assert rgb("#1ec8e6") == pytest.approx((30 / 255, 200 / 255, 230 / 255))
+    with pytest.raises(NubotCommonError, match="#rrggbb"):
+        rgb("cyan")

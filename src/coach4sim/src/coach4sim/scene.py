@@ -23,13 +23,12 @@ from typing import Any
 
 from nubot_common.field import FieldGeometry
 from nubot_common.match_mode import MatchMode
-from nubot_common.naming import is_robot_name, parse_robot_name
+from nubot_common.naming import is_robot_name, parse_robot_name, team_colour
 from nubot_common.team_frame import TeamFrame
 from nubot_common.team_play import Role
 from nubot_common.world_description import WorldDescription
 
 EVENTS_KEPT = 6  # the referee's last decisions shown
-TEAM_COLOURS = ("#1ec8e6", "#e83fd1", "#f2c230", "#7ad151")  # in the referee's order of teams, then as seen
 
 
 def stamp_seconds(stamp: Any) -> float:
@@ -150,8 +149,7 @@ class Scene:
         return ordered + [t for t in self.teams_seen if t not in ordered]
 
     def colour(self, team: str) -> str:
-        teams = self.teams
-        return TEAM_COLOURS[teams.index(team) % len(TEAM_COLOURS)] if team in teams else "#cccccc"
+        return team_colour(team, self.teams)  # the referee's teams first, then as seen
 
     def frame_of(self, team: str) -> TeamFrame:
         ref = self._referee

@@ -5,7 +5,8 @@ Provides: ``RobotName`` (team, agent_id; ``str()`` gives the model name back), `
 name itself for a model that is no robot, e.g. ``football``), ``is_robot_name``,
 ``check_team_prefix``, ``RobotSelection`` (``all``, nothing or a list of names) and
 ``RobotNodeParams`` (``~robot`` and ``~agent_id`` of a per-robot node;
-a node with parameters of its own subclasses it). The model name prefixes every topic and service
+a node with parameters of its own subclasses it) and ``team_colour`` (a team's colour in the page, RViz and the
+plots: cyan and magenta as in MSL, then two more). The model name prefixes every topic and service
 of its robot in simulation (``/rival3/nubotcontrol/velcmd``); the team prefix names the team's
 namespace (``/rival/receive_from_coach``).
 """
@@ -14,6 +15,7 @@ from __future__ import annotations
 
 import functools
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from nubot_common import NubotCommonError
@@ -119,3 +121,20 @@ class RobotSelection:
 
     def __str__(self) -> str:
         return "all" if self.every else ",".join(sorted(self.names))
+
+
+TEAM_COLOURS = ("#1ec8e6", "#e83fd1", "#f2c230", "#7ad151")  # cyan, magenta, yellow, green
+NO_TEAM_COLOUR = "#cccccc"
+
+
+def team_colour(team: str, teams: Sequence[str]) -> str:
+    """The colour (``#rrggbb``) of ``team`` among ``teams`` (the referee's order, then as seen): the same in the
+    live page, RViz and a match's plots; grey for a team not among them."""
+    return TEAM_COLOURS[list(teams).index(team) % len(TEAM_COLOURS)] if team in teams else NO_TEAM_COLOUR
+
+
+def rgb(colour: str) -> tuple[float, float, float]:
+    """``#rrggbb`` as red, green and blue in [0, 1]."""
+    if not re.fullmatch(r"#[0-9a-fA-F]{6}", colour):
+        raise NubotCommonError(f"a colour is #rrggbb, got {colour!r}")
+    return tuple(int(colour[i:i + 2], 16) / 255.0 for i in (1, 3, 5))  # type: ignore[return-value]

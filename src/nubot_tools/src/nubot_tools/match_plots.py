@@ -23,12 +23,10 @@ from matplotlib.figure import Figure
 
 from nubot_common.commands import KickKind
 from nubot_common.field import FieldGeometry
-from nubot_common.naming import is_robot_name, team_of
+from nubot_common.naming import is_robot_name, team_colour, team_of
 from nubot_match.match_analysis import Track
 from nubot_match.match_shots import Shot
 
-TEAM_COLOURS = (("Blues", "blue"), ("Reds", "red"), ("Greens", "green"), ("Purples", "purple"),
-                ("Oranges", "orange"), ("Greys", "grey"))  # (colour map, name) per team, in the teams' order
 GRASS = "#2e7d32"
 LIGHT_GRASS = "#dcedc8"
 
@@ -99,18 +97,18 @@ def plot_trajectories(tracks: dict[str, Track], teams: Sequence[str], field: Fie
                       teleport_step: float = 1.0, max_points: int = 4000,
                       title: str = "Robot trajectories") -> Figure:
     """Write a PNG of every robot's path: one colour family per team, each robot labelled at its last position."""
-    from matplotlib import colormaps
+    from matplotlib.colors import LinearSegmentedColormap
 
     fig, ax = new_figure(field)
     ax.set_facecolor(LIGHT_GRASS)
     draw_field(ax, field, colour="0.4", zorder=1)
     robots = sorted(n for n in tracks if is_robot_name(n))
     legend = []
-    for team_index, team in enumerate(teams):
+    for team in teams:
         members = [r for r in robots if team_of(r) == team]
-        cmap_name, colour_name = TEAM_COLOURS[team_index % len(TEAM_COLOURS)]
-        cmap = colormaps[cmap_name]
-        legend.append(f"{team} {colour_name}")
+        colour = team_colour(team, teams)  # as in the live page and RViz
+        cmap = LinearSegmentedColormap.from_list(team, ["white", colour, "black"])  # its robots from light to dark
+        legend.append(f"{team} {colour}")
         for i, robot in enumerate(members):
             xy = tracks[robot].xy
             if len(xy) == 0:
@@ -118,7 +116,7 @@ def plot_trajectories(tracks: dict[str, Track], teams: Sequence[str], field: Fie
             step = max(1, len(xy) // max_points)
             jumps = np.flatnonzero(np.hypot(*np.diff(xy, axis=0).T) > teleport_step) + 1
             line = np.insert(xy.astype(float), jumps, np.nan, axis=0)[::step]  # no lines across teleports
-            colour = cmap(0.35 + 0.6 * (i + 1) / (len(members) + 1))
+            colour = cmap(0.25 + 0.5 * (i + 1) / (len(members) + 1))
             ax.plot(line[:, 0], line[:, 1], color=colour, linewidth=1.2, alpha=0.85, label=robot, zorder=3)
             ax.plot(*xy[0], marker="o", markersize=4, color=colour, zorder=4)
             ax.plot(*xy[-1], marker="s", markersize=6, color=colour, markeredgecolor="black", zorder=4)

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from enum import IntEnum
 
 from nubot_common.geometry import yaw_to_quaternion
-from nubot_common.naming import is_robot_name, parse_robot_name
+from nubot_common.naming import is_robot_name, parse_robot_name, rgb, team_colour
 from nubot_common.params import require_positive
 from nubot_common.team_frame import TeamFrame
 from nubot_common.world_description import WorldDescription
@@ -44,9 +44,6 @@ Vector = tuple[float, float, float]
 Quaternion = tuple[float, float, float, float]  # x, y, z, w
 Colour = tuple[float, float, float, float]  # red, green, blue, alpha in [0, 1]
 
-# Teams in the referee's order, then alphabetically: cyan and magenta as in MSL, then two more.
-TEAM_COLOURS: tuple[Colour, ...] = ((0.12, 0.78, 0.90, 1.0), (0.91, 0.25, 0.82, 1.0), (0.95, 0.76, 0.19, 1.0),
-                                    (0.48, 0.82, 0.32, 1.0))
 CARPET: Colour = (0.13, 0.45, 0.18, 1.0)
 WHITE: Colour = (1.0, 1.0, 1.0, 1.0)
 BALL: Colour = (1.0, 0.45, 0.0, 1.0)
@@ -156,8 +153,7 @@ class TeamSides:
         return TeamFrame(self.attack(team, seen))
 
     def colour(self, team: str, seen: Iterable[str]) -> Colour:
-        teams = self.teams([team, *seen])
-        return TEAM_COLOURS[teams.index(team) % len(TEAM_COLOURS)]
+        return (*rgb(team_colour(team, self.teams([team, *seen]))), 1.0)  # teams in the referee's order, then by name
 
 
 def configured_attacks(robots: object) -> dict[str, int]:

@@ -8,11 +8,11 @@ import pytest
 
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import quaternion_to_yaw, wrap_angle, yaw_to_quaternion
+from nubot_common.naming import TEAM_COLOURS, rgb
 from nubot_common.team_frame import TeamFrame
 from nubot_common.world_description import WorldDescription, load_world
 from sim_visual.markers import (
     BALL_FRAME,
-    TEAM_COLOURS,
     WORLD_FRAME,
     FrameTransform,
     MarkerKind,
@@ -172,7 +172,8 @@ def test_the_scene_draws_robots_ball_and_paths_on_their_frames():
     body = bodies["nubot1/base_link"]
     assert body.kind is MarkerKind.CYLINDER and body.frame_locked
     assert body.scale == pytest.approx((2 * WORLD.robot.radius, 2 * WORLD.robot.radius, WORLD.robot.height))
-    assert body.colour[:3] == TEAM_COLOURS[0][:3] and bodies["rival2/base_link"].colour[:3] == TEAM_COLOURS[1][:3]
+    cyan, magenta = (pytest.approx(rgb(c)) for c in TEAM_COLOURS[:2])  # the live page's colours too
+    assert body.colour[:3] == cyan and bodies["rival2/base_link"].colour[:3] == magenta
     numbers = {m.frame: m.text for m in markers if m.kind is MarkerKind.TEXT_VIEW_FACING}
     assert numbers == {"nubot1/base_link": "1", "nubot2/base_link": "2", "rival1/base_link": "1",
                        "rival2/base_link": "2"}
