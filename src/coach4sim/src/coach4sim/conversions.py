@@ -17,7 +17,7 @@ from coach4sim.fouls import RefereeCall as Call
 from coach4sim.game import GameStateData
 from coach4sim.refbox import BallSnapshot, RobotSnapshot
 from nubot_common import NubotCommonError
-from nubot_common.conversions import stamp, world_state
+from nubot_common.conversions import model_state_msg, stamp, world_state
 from nubot_common.msg import GameState, ModelState, ModelStates, Point3d, RefereeCall, StrategyInfo, WorldModelInfo
 from nubot_common.naming import parse_robot_name
 from nubot_common.team_play import Role
@@ -61,10 +61,7 @@ def world_from_model_states(msg: ModelStates, ball_name: str
 
 def ball_placement(ball_name: str, x: float, y: float, radius: float) -> ModelState:
     """The ball at (x, y) on the carpet, at rest, world frame [m]."""
-    state = ModelState(model_name=ball_name, reference_frame="world")
-    state.pose.position.x, state.pose.position.y, state.pose.position.z = x, y, radius
-    state.pose.orientation.w = 1.0
-    return state
+    return model_state_msg(ball_name, x, y, radius)
 
 
 def watch_view(robot: str, wm: WorldModelInfo, state: GameState | None) -> WatchView:

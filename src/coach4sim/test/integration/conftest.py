@@ -3,7 +3,6 @@ launched with its real launch file, watched from this (already initialised) test
 
 from __future__ import annotations
 
-import math
 import threading
 import time
 
@@ -73,15 +72,11 @@ class MatchWatcher:
         rospy.wait_for_service(name, timeout=20.0)
         return rospy.ServiceProxy(name, srv_type)
 
-    def set_model(self, name: str, x: float, y: float, *, z: float = 0.0, yaw: float = 0.0) -> None:
-        from nubot_common.msg import ModelState
-        from nubot_common.srv import SetModelState
+    @staticmethod
+    def set_model(name: str, x: float, y: float, *, z: float = 0.0, yaw: float = 0.0) -> None:
+        from nubot_common.node_io import set_model_state
 
-        state = ModelState(model_name=name, reference_frame="world")
-        state.pose.position.x, state.pose.position.y, state.pose.position.z = x, y, z
-        state.pose.orientation.z, state.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
-        response = self.service("/sim_visual/set_model_state", SetModelState)(state)
-        assert response.success, response.status_message
+        set_model_state(name, x, y, z, yaw)
 
     def command(self, command: str, team: str = "nubot"):
         from nubot_common.srv import CoachCommand

@@ -134,14 +134,11 @@ def test_a_lob_at_the_goalie_is_predicted_to_come_down_where_it_lands(goalie_wor
     message by then) lies within 15 cm of where it comes down (from the simulator's true states)."""
     import dynamic_reconfigure.client
 
-    from nubot_common.msg import ModelState
-    from nubot_common.srv import BallHandle, SetModelState, Shoot
+    from nubot_common.node_io import set_model_state
+    from nubot_common.srv import BallHandle, Shoot
 
     _, node, watch = goalie_world
-    state = ModelState(model_name="football", reference_frame="world")
-    state.pose.position.x, state.pose.position.y, state.pose.position.z = *SHOOTER, RADIUS
-    state.pose.orientation.w = 1.0
-    assert _service("/sim_visual/set_model_state", SetModelState)(state).success
+    set_model_state("football", *SHOOTER, RADIUS)
     assert _service("/rival2/BallHandle", BallHandle)(1).BallIsHolding == 1
     with watch.lock:
         kicked_at = watch.ball[-1][0]

@@ -39,6 +39,7 @@ from nubot_common.msg import (
     BallInfo3d,
     CoachInfo,
     FrontBallInfo,
+    ModelState,
     ObstaclesInfo,
     OmniVisionInfo,
     PassCommands,
@@ -81,6 +82,14 @@ from nubot_common.world_state import (
 
 
 # --- fields --------------------------------------------------------------------------------------
+def model_state_msg(name: str, x: float, y: float, z: float = 0.0, yaw: float = 0.0) -> ModelState:
+    """A SetModelState request's model at rest at (x, y, z) [m], heading ``yaw`` [rad], world frame."""
+    state = ModelState(model_name=name, reference_frame="world")
+    state.pose.position.x, state.pose.position.y, state.pose.position.z = x, y, z
+    state.pose.orientation.z, state.pose.orientation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+    return state
+
+
 def char_value(value: int | bytes | str) -> int:
     """The number in a ROS ``char`` field, whether genpy gives it as an int, a byte or a one-letter string."""
     if isinstance(value, bytes | str):

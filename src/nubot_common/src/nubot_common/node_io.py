@@ -207,3 +207,18 @@ def wait_for_robots(names: list[str], timeout: float, stop: Callable[[], bool] =
     for sub in subs:
         sub.unregister()
     return sorted(set(names) - heard)
+
+
+def set_model_state(name: str, x: float, y: float, z: float = 0.0, yaw: float = 0.0, timeout: float = 20.0) -> None:
+    """Put the simulator's model ``name`` at rest at (x, y, z) [m], heading ``yaw`` [rad] (the simulator's
+    set_model_state service, waited for up to ``timeout`` s); raise ``NubotCommonError`` with its answer if it
+    refuses."""
+    from nubot_common import NubotCommonError
+    from nubot_common.conversions import model_state_msg
+    from nubot_common.srv import SetModelState
+
+    rospy.wait_for_service("/sim_visual/set_model_state", timeout=timeout)
+    answer = rospy.ServiceProxy("/sim_visual/set_model_state", SetModelState)(model_state_msg(name, x, y, z, yaw))
+    if not answer.success:
+        raise NubotCommonError(f"set_model_state {name}: {answer.status_message}")
+

@@ -3,7 +3,6 @@ and the simulator launched with its real launch file."""
 
 from __future__ import annotations
 
-import math
 import os
 import threading
 import time
@@ -90,15 +89,11 @@ class SimClient:
         rospy.wait_for_service(name, timeout=20.0)
         return rospy.ServiceProxy(name, srv_type)
 
-    def set_model(self, name: str, x: float, y: float, *, z: float = 0.0, yaw: float = 0.0) -> None:
-        from nubot_common.msg import ModelState
-        from nubot_common.srv import SetModelState
+    @staticmethod
+    def set_model(name: str, x: float, y: float, *, z: float = 0.0, yaw: float = 0.0) -> None:
+        from nubot_common.node_io import set_model_state
 
-        state = ModelState(model_name=name, reference_frame="world")
-        state.pose.position.x, state.pose.position.y, state.pose.position.z = x, y, z
-        state.pose.orientation.z, state.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
-        response = self.service("/sim_visual/set_model_state", SetModelState)(state)
-        assert response.success, response.status_message
+        set_model_state(name, x, y, z, yaw)
 
 
 def launch_sim(master: RosMaster, name: str, *args: str):

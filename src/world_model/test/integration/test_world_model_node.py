@@ -174,16 +174,10 @@ def _teammate_messages(sim_time: float):
 
 
 def _move_ball(x: float, y: float) -> None:
-    import rospy
 
-    from nubot_common.msg import ModelState
-    from nubot_common.srv import SetModelState
+    from nubot_common.node_io import set_model_state
 
-    state = ModelState(model_name="football", reference_frame="world")
-    state.pose.position.x, state.pose.position.y, state.pose.position.z = x, y, 0.11
-    state.pose.orientation.w = 1.0
-    rospy.wait_for_service("/sim_visual/set_model_state", 10)
-    assert rospy.ServiceProxy("/sim_visual/set_model_state", SetModelState)(state).success
+    set_model_state("football", x, y, 0.11, timeout=10)
 
 
 def test_teammate_ball_is_used_when_the_robot_cannot_see_it_until_the_teammate_falls_silent(world):
