@@ -63,6 +63,37 @@ class WorldSnapshot:
     holder: str = ""  # the robot whose ball handler holds the ball ("" none)
 
 
+class RefereeInputs:
+    """What happened to the ball since the referee last looked, as the simulator reports it (the referee node from
+    its topics, the lockstep engine from its events): goals, kicks and touches, who touched the ball last and who
+    holds it. ``snapshot`` hands them to the referee with the positions of the moment and starts afresh."""
+
+    def __init__(self) -> None:
+        self.goals: list[GoalSeen] = []
+        self.kicks: list[str] = []
+        self.touches: list[str] = []
+        self.last_touch = ""
+        self.holder = ""
+
+    def goal(self, side: int, last_touch: str) -> None:
+        self.goals.append(GoalSeen(side, last_touch))
+
+    def kick(self, robot: str) -> None:
+        self.kicks.append(robot)
+        self.last_touch = robot
+
+    def touch(self, robot: str) -> None:
+        self.touches.append(robot)
+        self.last_touch = robot
+
+    def snapshot(self, time: float, ball: tuple[float, float, float],
+                 robots: Mapping[str, tuple[float, float]]) -> WorldSnapshot:
+        out = WorldSnapshot(time, ball, robots, self.last_touch, tuple(self.goals), tuple(self.kicks),
+                            tuple(self.touches), self.holder)
+        self.goals, self.kicks, self.touches = [], [], []
+        return out
+
+
 @dataclass(frozen=True)
 class RefereeDecision:
     commands: tuple[tuple[str, MatchMode], ...]  # (team, command in that team's view), every team

@@ -2,7 +2,7 @@
 
 import pytest
 
-from coach4sim.referee import GoalSeen, Phase
+from coach4sim.referee import GoalSeen, Phase, RefereeInputs
 from nubot_common import NubotCommonError
 from nubot_common.match_mode import MatchMode
 
@@ -381,3 +381,18 @@ def test_a_half_whose_play_keeps_stopping_still_ends(make_match):
             break
     assert ends and ends[0] == pytest.approx(3.0 * 20.0 + 5.0, abs=1.0)
     assert match.game.game_time < 20.0
+
+
+def test_the_inputs_hand_over_what_happened_once_and_remember_the_last_touch_and_holder():
+    inputs = RefereeInputs()
+    inputs.touch("nubot2")
+    inputs.kick("nubot3")
+    inputs.goal(1, "nubot3")
+    inputs.holder = "rival1"
+    first = inputs.snapshot(4.0, (1.0, 2.0, 0.11), {"nubot3": (0.5, 0.5)})
+    assert (first.time, first.ball, dict(first.robots)) == (4.0, (1.0, 2.0, 0.11), {"nubot3": (0.5, 0.5)})
+    assert (first.touches, first.kicks, first.goals) == (("nubot2",), ("nubot3",), (GoalSeen(1, "nubot3"),))
+    assert (first.last_touch, first.holder) == ("nubot3", "rival1"), "the kicker touched it last"
+    second = inputs.snapshot(4.1, (1.0, 2.0, 0.11), {})
+    assert (second.touches, second.kicks, second.goals) == ((), (), ()), "each event reaches the referee once"
+    assert (second.last_touch, second.holder) == ("nubot3", "rival1"), "who touched and holds it stays known"

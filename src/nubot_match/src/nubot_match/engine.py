@@ -30,7 +30,7 @@ from dataclasses import dataclass, field, replace
 
 from coach4sim.game import GameController, GameStateData
 from coach4sim.params import TeamSpec
-from coach4sim.referee import AutomaticReferee, GoalSeen, Phase, RefereeDecision, WorldSnapshot
+from coach4sim.referee import AutomaticReferee, Phase, RefereeDecision, RefereeInputs
 from nubot_comm.relay import TeamRelay
 from nubot_common.commands import RobotCommand
 from nubot_common.match_mode import MatchMode
@@ -109,9 +109,7 @@ class LockstepMatch:
         self._state_out = Periodic(STATE_PERIOD)
         self._sent: dict[str, tuple[MatchMode, MatchMode]] = {}
         self._published: GameStateData | None = None
-        self._seen_goals: list[GoalSeen] = []
-        self._seen_kicks: list[str] = []
-        self._seen_touches: list[str] = []
+        self._inputs = RefereeInputs()  # what the steps' events told since the last referee tick
         for listener in self.listeners:
             listener.start(cfg.world, 0.0)
         return self.game.state()
@@ -247,11 +245,11 @@ class LockstepMatch:
         for event in events:
             out.events.append(event)
             if isinstance(event, GoalScored):
-                self._seen_goals.append(GoalSeen(event.side, event.last_touch))
+                self._inputs.goal(event.side, event.last_touch)
             elif isinstance(event, BallKicked):
-                self._seen_kicks.append(event.robot)
+                self._inputs.kick(event.robot)
             elif isinstance(event, BallTouched):
-                self._seen_touches.append(event.robot)
+                self._inputs.touch(event.robot)
             for listener in self.listeners:
                 listener.sim_event(event)
 
@@ -260,9 +258,8 @@ class LockstepMatch:
         sim = self._require_sim()
         ball = sim.world.ball_state()
         robots = {n: (s.x, s.y) for n, s in ((n, sim.world.robot_state(n)) for n in self.agents)}
-        snapshot = WorldSnapshot(t, (ball.x, ball.y, ball.z), robots, sim.last_touch, tuple(self._seen_goals),
-                                 tuple(self._seen_kicks), tuple(self._seen_touches), sim.holder or "")
-        self._seen_goals, self._seen_kicks, self._seen_touches = [], [], []
+        self._inputs.last_touch, self._inputs.holder = sim.last_touch, sim.holder or ""  # the simulator knows them
+        snapshot = self._inputs.snapshot(t, (ball.x, ball.y, ball.z), robots)
         decision = self.referee.update(snapshot)
         if decision is not None:
             out.decisions.append(decision)
