@@ -16,15 +16,16 @@ import pytest
 from nubot_common.match_mode import MatchMode
 from nubot_common.naming import parse_robot_name, team_of
 from nubot_common.percepts import RobotView
+from nubot_common.schedule import Periodic
 from nubot_common.team_play import StrategyReport
 from nubot_common.world_description import WorldDescription
 from nubot_control.agent import AgentStep, RobotAgent
 from nubot_control.params import ControlParams, PlayParams
-from sim_visual.params import NoiseParams, RobotSpawn, SimConfig
+from sim_visual.params import NoiseParams, RobotSpawn, SimConfig, SimNodeParams
 from sim_visual.simulator import GoalScored, Simulator
 
-VISION_PERIOD = 1.0 / 30.0  # [s]
-CONTROL_PERIOD = 1.0 / 33.0  # [s]
+VISION_PERIOD = 1.0 / SimNodeParams().vision_rate  # [s] the simulator's percepts, as the node and the engine
+CONTROL_PERIOD = 1.0 / ControlParams().rate  # [s] the robots' control cycle
 
 
 _team_of = functools.cache(team_of)  # parsed once per name: the team link asks for every pair of robots every cycle
@@ -39,8 +40,8 @@ class InProcessMatch:
     steps: dict[str, AgentStep] = field(default_factory=dict)
     goals: list[GoalScored] = field(default_factory=list)
     _packets: dict[str, tuple[RobotView | None, StrategyReport]] = field(default_factory=dict)
-    _next_vision: float = 0.0
-    _next_control: float = 0.0
+    _vision: Periodic = field(default_factory=lambda: Periodic(VISION_PERIOD))  # the engine's schedule
+    _control: Periodic = field(default_factory=lambda: Periodic(CONTROL_PERIOD))
 
     def team_of(self, name: str) -> str:
         return _team_of(name)
@@ -68,12 +69,10 @@ class InProcessMatch:
         end = self.sim.time + seconds
         while self.sim.time < end:
             t = self.sim.time
-            if t >= self._next_vision - 1e-9:
-                self._next_vision += VISION_PERIOD
+            if self._vision.due(t):
                 for name, agent in self.agents.items():
                     agent.on_vision(self.sim.observe(name))
-            if t >= self._next_control - 1e-9:
-                self._next_control += CONTROL_PERIOD
+            if self._control.due(t):
                 self._deliver()
                 for name, agent in self.agents.items():
                     step = agent.step(t)
