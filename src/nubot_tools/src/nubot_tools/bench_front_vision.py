@@ -30,17 +30,18 @@ import numpy as np
 
 from front_vision.pipeline import FrontVision
 from nubot_common.camera_model import PinholeCamera, load_camera
+from nubot_common.packages import package_path
 from nubot_common.world_description import WorldDescription
 from nubot_tools.bench_lockstep import cpu_pressure, machine, pinned
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 from omni_vision.colors import ColorTable
 from sim_visual.camera_params import OmniCameraParams
 from sim_visual.front_camera import FrontCameraRenderer
 from sim_visual.front_camera_params import FrontCameraParams
 from sim_visual.world import BallState, RobotState
 
-CAMERA_FILE = WORKSPACE / "src" / "front_vision" / "config" / "front_camera_sim.yaml"
-TABLE_FILE = WORKSPACE / "src" / "omni_vision" / "config" / "colors_sim.npz"
+CAMERA_FILE = package_path("front_vision") / "config" / "front_camera_sim.yaml"
+TABLE_FILE = package_path("omni_vision") / "config" / "colors_sim.npz"
 BINS = (0.6, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5)  # [m] from the robot's centre
 NEAR = 1.5  # [m] the error target holds within this distance
 TARGET_MEDIAN_MS = 3.0
@@ -203,7 +204,7 @@ def report(results: dict[str, Any]) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--balls", type=int, default=500, help="seeded ball placements (default 500)")
     parser.add_argument("--cpu", type=int, default=max(os.sched_getaffinity(0)),

@@ -38,6 +38,7 @@ from nubot_common.clouds import Cloud
 from nubot_common.geometry import Pose2D
 from nubot_common.match_mode import MatchMode
 from nubot_common.naming import parse_robot_name
+from nubot_common.packages import package_path
 from nubot_common.params import load_yaml
 from nubot_common.percepts import Ball3dPercept
 from nubot_common.world_description import WorldDescription, load_world
@@ -45,14 +46,14 @@ from nubot_control.agent import RobotAgent
 from nubot_control.params import ControlParams
 from nubot_match.statistics import share_interval
 from nubot_tools.bench_lockstep import machine
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 from sim_visual.params import PluginParams, RobotSpawn, SimConfig
 from sim_visual.rules import lob_velocity
 from sim_visual.simulator import GoalScored, Simulator
 from sim_visual.world import BallState
 
 GOALIE = "nubot1"
-KINECT_CONFIG = WORKSPACE / "src" / "kinect_ball" / "config" / "kinect_ball.yaml"
+KINECT_CONFIG = package_path("kinect_ball") / "config" / "kinect_ball.yaml"
 SETTLE = 1.5  # the ball lies still this long before the shot [s]
 WATCH = 3.0  # a shot not scored this long after it was struck is saved [s]
 DISTANCES = (4.0, 9.0)  # from the goal's centre [m]
@@ -194,7 +195,7 @@ def plot(summary: dict[str, Any], label: str, path: Path) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--shots", type=int, default=200)
     parser.add_argument("--quick", action="store_true", help="20 shots")

@@ -50,16 +50,17 @@ from kinect_ball.pipeline import KinectBall, KinectBallParams
 from nubot_common.ball_flight import landing
 from nubot_common.clouds import cloud_from_msg, cloud_msg
 from nubot_common.geometry import Pose2D
+from nubot_common.packages import package_path
 from nubot_common.params import load_yaml
 from nubot_common.world_description import load_world
 from nubot_tools.bench_lockstep import machine, pinned
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 from sim_visual.params import RobotSpawn, SimConfig
 from sim_visual.rgbd_camera import BALL
 from sim_visual.simulator import Simulator
 from sim_visual.world import BallState
 
-CONFIG = WORKSPACE / "src" / "kinect_ball" / "config" / "kinect_ball.yaml"
+CONFIG = package_path("kinect_ball") / "config" / "kinect_ball.yaml"
 GOALIE, SHOOTER = "nubot1", "rival1"
 FRAME_PERIOD = 1.0 / 30.0  # [s] as the simulator node publishes the clouds
 TIME_EPS = 1e-9
@@ -327,7 +328,7 @@ def report(results: dict[str, Any]) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--lobs", type=int, default=200)
     parser.add_argument("--quick", action="store_true", help="20 lobs")

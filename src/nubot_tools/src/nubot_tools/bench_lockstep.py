@@ -59,7 +59,7 @@ from typing import Any
 from nubot_match.config import match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.record import MatchListener
-from nubot_tools.workspace import TEAMS, WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS, TEAMS
 
 PARTS = ("lockstep", "recording", "physics", "env", "memory", "evaluate")
 TRACKERS = ("mpc", "baseline")
@@ -649,7 +649,7 @@ def parse_parts(text: str) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--quick", action="store_true", help="a short smoke run (10 s of sim time per match)")
     parser.add_argument("--only", type=parse_parts, default=list(PARTS), help=f"comma-separated: {','.join(PARTS)}")
     parser.add_argument("--cpu", type=int, default=max(os.sched_getaffinity(0)),

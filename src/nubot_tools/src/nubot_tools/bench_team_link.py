@@ -29,7 +29,7 @@ from nubot_comm.codec import DEFAULT_URL
 from nubot_comm.link import TeamLink
 from nubot_common.processes import RosMaster, wait_until
 from nubot_lcm import coach_packet_t, team_packet_t
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 
 LOSSES = (0, 10, 30)  # [%] of the datagrams dropped on input
 TEAMMATE_RATE = 30.0  # [Hz] a robot's packets: world_model's rate
@@ -155,7 +155,7 @@ def plot(rows: list[dict], path: Path) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--seconds", type=float, default=10.0, help="per loss level, and for the CPU [s]")
     parser.add_argument("--rate", type=float, default=100.0, help="packets a second for the latency [Hz]")
     args = parser.parse_args(argv)

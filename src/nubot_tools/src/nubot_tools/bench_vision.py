@@ -57,10 +57,11 @@ import numpy as np
 
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate, wrap_angle
+from nubot_common.packages import package_path
 from nubot_common.params import load_yaml
 from nubot_common.world_description import WorldDescription, load_world
 from nubot_tools.bench_lockstep import cpu_pressure, machine, pinned
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 from omni_vision.colors import ColorTable
 from omni_vision.pipeline import OmniVision, OmniVisionParams
 from sim_visual.params import RobotSpawn, SimConfig
@@ -68,7 +69,7 @@ from sim_visual.sensors import SensorParams
 from sim_visual.simulator import Simulator
 from sim_visual.world import BallState, RobotState
 
-VISION_CONFIG = WORKSPACE / "src" / "omni_vision" / "config"
+VISION_CONFIG = package_path("omni_vision") / "config"
 VIEWER = "nubot1"  # the robot that sees through its camera; attacks +x, so its team frame is the world frame
 CAMERA_PERIOD = 1.0 / 30.0  # [s] as the simulator node publishes the camera
 ODOMETRY_PERIOD = 1.0 / 50.0  # [s]
@@ -776,7 +777,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--quick", action="store_true", help="short versions of every scenario (about 10 s)")
     parser.add_argument("--field", default="18x12", help="18x12, 22x14 or a world YAML")

@@ -43,7 +43,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 
 if TYPE_CHECKING:
     from nubot_match.statistics import Interval
@@ -123,7 +123,7 @@ def play_ros(seed: int, half_seconds: float, folder: Path, real_time_factor: flo
     earlier = set(folder.glob("match-*/report.json"))  # an earlier run's, kept in the seed's folder
     start = time.monotonic()
     perf_file = folder / f"perf-{time.strftime('%Y%m%d-%H%M%S')}.json"
-    status = subprocess.run([sys.executable, str(WORKSPACE / "scripts" / "run_match.py"), "--half-seconds",
+    status = subprocess.run([sys.executable, "-m", "nubot_tools.ros.match_runner", "--half-seconds",
                              str(half_seconds), "--halves", "2", "--seed", str(seed), "--out", str(folder),
                              "--perf-json", str(perf_file), "--real-time-factor", str(real_time_factor)],
                             check=False).returncode
@@ -201,7 +201,7 @@ def plot(comparison: dict, path: Path, title: str) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--seeds", type=int, default=4, help="seeds 0..N-1, one match of each kind per seed")
     parser.add_argument("--half-seconds", type=float, default=90.0, help="[s of game time]; two halves")
     parser.add_argument("--quick", action="store_true",

@@ -19,7 +19,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 
 PLAY = ("goals", "passes_completed", "passes_tried", "shots", "running_share", "collisions_per_minute",
         "collisions", "ball_reach_median_s", "ball_reach_mean_s")
@@ -84,7 +84,7 @@ def mean_of(matches: list[dict], key: str, performance: bool = False) -> float |
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     parser.add_argument("--half-seconds", type=float, default=60.0)
     parser.add_argument("--trackers", nargs="+", choices=("mpc", "baseline"), default=["mpc", "baseline"])

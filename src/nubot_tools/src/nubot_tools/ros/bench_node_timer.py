@@ -25,7 +25,7 @@ import time
 from pathlib import Path
 
 from nubot_common.processes import RosMaster, wait_until
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 
 CYCLE_HZ = 33.0  # nubot_control's rate
 KINDS = ("clock only", "rospy.Timer", "node_io.timer")
@@ -135,7 +135,7 @@ def plot(result: dict, path: Path) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--nodes", type=int, default=20)
     parser.add_argument("--seconds", type=float, default=20.0)
     parser.add_argument("--repeats", type=int, default=3)

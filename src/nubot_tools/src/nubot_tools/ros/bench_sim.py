@@ -24,7 +24,7 @@ import psutil
 import yaml
 
 from nubot_common.processes import RosMaster
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 from sim_visual.params import RobotSpawn, SimConfig
 from sim_visual.simulator import Simulator
 
@@ -142,7 +142,7 @@ def bench_ros(master: RosMaster, out: Path, count: int, rtf: float, window: floa
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--window", type=float, default=8.0, help="wall seconds measured per ROS case")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)

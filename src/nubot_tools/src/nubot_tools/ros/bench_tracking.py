@@ -31,7 +31,7 @@ from nubot_common.processes import RosMaster, wait_until
 from nubot_common.world_description import WorldDescription
 from nubot_control.motion import MotionController
 from nubot_control.params import MotionParams
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 
 P0 = (-6.0, -3.0)
 WAYPOINTS = ((-2.0, 2.0), (2.0, -2.0), (6.0, 2.0))
@@ -221,7 +221,7 @@ def _save(fig, ax, labels: tuple[str, str], title: str, path: Path, legend: str 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--speeds", type=float, nargs="+", default=[3.25, 4.0])
     parser.add_argument("--cycles", type=int, default=1500, help="cycles timed in-process")
     parser.add_argument("--timeout", type=float, default=60.0, help="wall time allowed per run [s]")

@@ -37,7 +37,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 
 VIEWER_RATE_HZ = 25.0  # the viewer node's ~rate default, which run_match.py keeps
 VIEWER_NODE = "/viewer"  # its name in run_match.py's resource samples
@@ -383,7 +383,7 @@ def watch(url: str, output: RunnerOutput, args: argparse.Namespace, runner: Runn
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--half-seconds", type=float, default=60.0, help="[s of game time]")
     parser.add_argument("--halves", type=int, default=2)
     parser.add_argument("--sample-period", type=float, default=5.0, help="the page's and the nodes' samples [s, wall]")

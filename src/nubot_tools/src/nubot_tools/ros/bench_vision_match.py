@@ -18,7 +18,7 @@ from pathlib import Path
 import yaml
 
 from nubot_tools.ros.bench_match import PERFORMANCE, PLAY, mean_of, play_match
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import BENCH_RESULTS
 
 MODES = {"truth": (), "vision": ("--vision", "all")}
 
@@ -37,7 +37,7 @@ def two_vs_two_teams(folder: Path) -> tuple[str, ...]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "bench" / "results")
+    parser.add_argument("--out", type=Path, default=BENCH_RESULTS)
     parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2])
     parser.add_argument("--half-seconds", type=float, default=60.0)
     args = parser.parse_args(argv)

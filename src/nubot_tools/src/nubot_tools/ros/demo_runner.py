@@ -19,7 +19,7 @@ from pathlib import Path
 
 from nubot_common.processes import RosMaster
 from nubot_tools.progress import SimProgress
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import MATCHES
 
 
 class DemoWatcher:
@@ -104,7 +104,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--real-time-factor", type=float, default=1.0, help="0 = as fast as possible")
     parser.add_argument("--shot", choices=["lob", "ground"], default="lob")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "matches")
+    parser.add_argument("--out", type=Path, default=MATCHES)
     args = parser.parse_args(argv)
 
     out = args.out / datetime.now().strftime("demo-%Y%m%d-%H%M%S")

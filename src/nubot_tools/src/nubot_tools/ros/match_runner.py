@@ -29,7 +29,7 @@ from nubot_common.processes import Launched, RosMaster, process_table
 from nubot_tools.node_watch import NodeEvent, NodeWatch
 from nubot_tools.progress import SimProgress
 from nubot_tools.resources import ResourceLog
-from nubot_tools.workspace import TEAMS, WORKSPACE
+from nubot_tools.workspace import MATCHES, TEAMS
 
 
 class GameWatcher:
@@ -313,7 +313,7 @@ def play(argv: list[str] | None) -> int:
     parser.add_argument("--real-time-factor", type=float, default=1.0)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--team", action="append", type=Path, help="team YAML (twice); default nubot and rival")
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "matches")
+    parser.add_argument("--out", type=Path, default=MATCHES)
     parser.add_argument("--no-report", action="store_true")
     parser.add_argument("--perf-json", type=Path, help="measure real-time factor, control rates, CPU and memory")
     parser.add_argument("--resources-json", type=Path,

@@ -23,7 +23,7 @@ from pathlib import Path
 
 from nubot_tools import resources
 from nubot_tools.ros import match_runner
-from nubot_tools.workspace import WORKSPACE
+from nubot_tools.workspace import SOAK
 
 RECORDER = "match_recorder"
 
@@ -47,7 +47,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--bound", type=float, default=0.5, help="largest acceptable RSS slope [MiB/min]")
     parser.add_argument("--recorder-bytes", type=float, default=32.0,
                         help="largest acceptable growth of the recorder per recorded message [bytes]")
-    parser.add_argument("--out", type=Path, default=WORKSPACE / "soak")
+    parser.add_argument("--out", type=Path, default=SOAK)
     parser.add_argument("--field", default="18x12")
     parser.add_argument("--analyse", action="store_true", help="judge the soak already in --out, do not play")
     args = parser.parse_args(argv)
