@@ -33,6 +33,7 @@ import numpy as np
 
 from nubot_common.geometry import Pose2D
 from nubot_common.naming import parse_robot_name
+from nubot_common.packages import package_path
 from nubot_common.team_frame import TeamFrame
 from nubot_match import NubotMatchError
 from nubot_match.config import match_config
@@ -43,7 +44,7 @@ from nubot_match.envs.observations import OWN_NAMES, Layout, own_block
 from nubot_match.envs.rewards import RewardFn, ScoreReward
 from sim_visual.simulator import GoalScored, Simulator
 
-CONFIG = Path(__file__).resolve().parents[3] / "config"  # nubot_match/config
+CONFIG = package_path("nubot_match") / "config"
 LONGEST_HALF = 4 * 3600.0  # the game clock never ends an episode [s]
 ENGINE_SEEDS = 2**31 - 1  # engine seeds are drawn from [0, this)
 ROBOT_BACK, BALL_FRONT, BALL_BACK = 3.0, 1.0, 2.5  # start area: x in [0, L-3] robot, [1, L-2.5] ball [m]

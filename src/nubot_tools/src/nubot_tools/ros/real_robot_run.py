@@ -32,6 +32,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from nubot_common.packages import package_path
 from nubot_common.processes import RosMaster
 from nubot_tools.resources import ResourceLog
 
@@ -186,7 +187,7 @@ def loop(master: RosMaster, seconds: float, result: dict) -> None:
 
     from nubot_common.msg import HardwareStatus
 
-    config = Path(__file__).resolve().parents[4] / "nubot_hwcontrol" / "config" / "nubot_hwcontrol.yaml"
+    config = package_path("nubot_hwcontrol") / "config" / "nubot_hwcontrol.yaml"
     subprocess.run(["rosparam", "load", str(config), "/nubot_hwcontrol"], env=master.env, check=True)
     node = master.launch("hwcontrol", ["rosrun", "nubot_hwcontrol", "nubot_hwcontrol_node"])
     rospy.init_node("real_robot_run", anonymous=True, disable_signals=True)
