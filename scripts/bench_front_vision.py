@@ -1,4 +1,4 @@
 #!/usr/bin/env python3
-from nubot_tools.bench_front_vision import main
+from nubot_tools.bench.front_vision import main
 
 raise SystemExit(main())

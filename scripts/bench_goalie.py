@@ -1,4 +1,4 @@
 #!/usr/bin/env python3
-from nubot_tools.bench_goalie import main
+from nubot_tools.bench.goalie import main
 
 raise SystemExit(main())

@@ -1,4 +1,4 @@
 #!/usr/bin/env python3
-from nubot_tools.bench_hwcontrol import main
+from nubot_tools.bench.hwcontrol import main
 
 raise SystemExit(main())

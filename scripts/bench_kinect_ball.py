@@ -1,4 +1,4 @@
 #!/usr/bin/env python3
-from nubot_tools.bench_kinect_ball import main
+from nubot_tools.bench.kinect_ball import main
 
 raise SystemExit(main())

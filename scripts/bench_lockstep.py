@@ -1,4 +1,4 @@
 #!/usr/bin/env python3
-from nubot_tools.bench_lockstep import main
+from nubot_tools.bench.lockstep import main
 
 raise SystemExit(main())

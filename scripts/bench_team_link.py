@@ -1,4 +1,4 @@
 #!/usr/bin/env python3
-from nubot_tools.bench_team_link import main
+from nubot_tools.bench.team_link import main
 
 raise SystemExit(main())

@@ -1,4 +1,4 @@
 #!/usr/bin/env python3
-from nubot_tools.match_report import main
+from nubot_tools.report.match_report import main
 
 raise SystemExit(main())

@@ -18,8 +18,8 @@ RUN_TAGS = ("depend", "exec_depend", "build_depend", "build_export_depend")
 
 # (importer, imported, where: "code" or "tests"): why the import is not declared yet.
 UNDECLARED = {
-    **{(pkg, "nubot_tools", "tests"): "a test reads a match's bag through nubot_tools.match_report (the report's "
-       "bag reader), which stands above the package" for pkg in ("coach4sim", "nubot_match")},
+    **{(pkg, "nubot_tools", "tests"): "a test reads a match's bag through nubot_tools.report.match_report (the "
+       "report's bag reader), which stands above the package" for pkg in ("coach4sim", "nubot_match")},
 }
 
 

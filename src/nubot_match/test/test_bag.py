@@ -24,7 +24,7 @@ from nubot_match.bag import TIME_MIN_NS, BagRecorder, RawClock, active_path, clo
 from nubot_match.config import match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.record import MatchLogRecorder
-from nubot_tools import match_report
+from nubot_tools.report import match_report
 
 HALF_SECONDS = 10.0
 SEED = 6  # a match with kicks (no seed of 0..39 has a referee call in 2 x 10 s with today's teams: a call recorded in a

@@ -6,7 +6,7 @@ import os
 
 import cv2
 
-from nubot_tools import bench_front_vision as bf
+from nubot_tools.bench import front_vision as bf
 
 
 def test_a_short_run_writes_plausible_deterministic_figures(tmp_path):

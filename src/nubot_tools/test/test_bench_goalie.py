@@ -2,7 +2,7 @@
 
 import json
 
-from nubot_tools.bench_goalie import main
+from nubot_tools.bench.goalie import main
 
 
 def test_quick_run_saves_lobs_an_empty_goal_concedes_and_a_seed_gives_the_same_shots(tmp_path, capsys):
@@ -27,7 +27,7 @@ def test_quick_run_saves_lobs_an_empty_goal_concedes_and_a_seed_gives_the_same_s
 
 def test_a_goalie_seeing_through_its_rgbd_cameras_saves_a_seeded_lob_that_scores_at_an_empty_goal():
     from nubot_common.world_description import load_world
-    from nubot_tools.bench_goalie import play_shot, seeded_shots
+    from nubot_tools.bench.goalie import play_shot, seeded_shots
 
     world = load_world("18x12")
     shot = seeded_shots(1, 0, world)[0]

@@ -5,7 +5,7 @@ import os
 
 import pytest
 
-from nubot_tools import bench_lockstep
+from nubot_tools.bench import lockstep as bench_lockstep
 
 
 def test_quick_run_writes_positive_figures(tmp_path):

@@ -6,7 +6,7 @@ import json
 import pytest
 
 from nubot_comm import netns
-from nubot_tools import bench_team_link
+from nubot_tools.bench import team_link as bench_team_link
 
 pytestmark = [pytest.mark.integration,
               pytest.mark.skipif(netns.unavailable() is not None, reason=str(netns.unavailable()))]

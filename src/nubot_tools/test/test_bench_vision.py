@@ -12,7 +12,7 @@ import pytest
 from nubot_common.field import FieldGeometry
 from nubot_common.params import load_yaml
 from nubot_common.world_description import load_world
-from nubot_tools import bench_vision as bv
+from nubot_tools.bench import vision as bv
 from omni_vision.colors import ColorTable
 from omni_vision.pipeline import OmniVisionParams
 

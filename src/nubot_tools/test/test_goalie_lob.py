@@ -101,7 +101,7 @@ def test_a_goalie_seeing_through_its_cameras_meets_a_lob_where_it_comes_down(ros
     from nubot_control.behaviours import goalie_spot
     from nubot_control.params import ControlParams
     from nubot_match.config import CONFIG
-    from nubot_tools.bench_goalie import LOB_LIFT, ball_launch, seeded_shots
+    from nubot_tools.bench.goalie import LOB_LIFT, ball_launch, seeded_shots
     from sim_visual.params import SimNodeParams
 
     world = load_world("18x12")

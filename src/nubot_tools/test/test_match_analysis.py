@@ -8,7 +8,7 @@ import pytest
 from nubot_common.field import FieldGeometry
 from nubot_common.world_description import WorldDescription
 from nubot_match import match_analysis as ma
-from nubot_tools import match_plots
+from nubot_tools.report import match_plots
 
 WORLD = WorldDescription()  # 18 x 12 m, ball "football", robot radius 0.26 m
 FIELD = WORLD.field

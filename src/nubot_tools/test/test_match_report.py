@@ -32,7 +32,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from nubot_common.field import FieldGeometry
 from nubot_common.world_description import WorldDescription
 from nubot_match import match_analysis as ma
-from nubot_tools import match_plots, match_report
+from nubot_tools.report import match_plots, match_report
 
 MSG_DIR = Path(__file__).resolve().parents[2] / "nubot_common" / "msg"
 WALL_START = 1_700_000_000.0  # bag (receive) times are wall time: the report must use sim time

@@ -8,7 +8,7 @@ import pytest
 from nubot_common.world_description import WorldDescription
 from nubot_match import match_analysis as ma
 from nubot_match import match_shots
-from nubot_tools import match_plots
+from nubot_tools.report import match_plots
 
 WORLD = WorldDescription()  # 18 x 12 m: goal lines at x = +-9, posts at y = +-1.2, bar at 1.0 m
 NUBOT_KICKOFF, OPP_KICKOFF, OUR_CORNER, OPP_CORNER, DROPBALL, START = 1, 2, 9, 10, 13, 15

@@ -9,8 +9,8 @@ from coach4sim.viewer_server import ViewerInputError
 from nubot_match.bag import BagRecorder
 from nubot_match.config import match_config
 from nubot_match.engine import LockstepMatch
-from nubot_tools.match_report import MatchReportError
 from nubot_tools.replay import ReplayBackend, ReplayClock, load_timeline, main
+from nubot_tools.report.match_report import MatchReportError
 
 
 @pytest.fixture(scope="module")

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from nubot_tools.browser import Page
-from nubot_tools.match_report import read_match
+from nubot_tools.report.match_report import read_match
 
 pytestmark = pytest.mark.integration
 

@@ -151,7 +151,7 @@ def test_a_ball_carried_over_3_m_is_called_and_the_match_report_counts_the_foul(
 
     from nubot_common.msg import RefereeCall
     from nubot_common.srv import BallHandle
-    from nubot_tools import match_report
+    from nubot_tools.report import match_report
 
     watcher, _, referee = match_world
     bag = tmp_path / "foul.bag"

@@ -4,7 +4,7 @@ Modules: ``codec`` (channels, limits, decoding and validation of the LCM packets
 reasons), ``link`` (``TeamLink``: one team's channels over one ``lcm.LCM``, the latest packet of every
 member, counters of what it dropped), ``relay`` (``TeamRelay``: the latest message of each member, younger than
 an age; the simulation's relay node uses it too), ``conversions`` (ROS messages <-> packets, for the node), ``params``
-(the node's parameters) and, for the tests and ``nubot_tools.bench_team_link``, ``netns`` (network namespaces
+(the node's parameters) and, for the tests and ``nubot_tools.bench.team_link``, ``netns`` (network namespaces
 with loss and delay). None of them imports rospy.
 """
 

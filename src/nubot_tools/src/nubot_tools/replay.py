@@ -35,7 +35,7 @@ from coach4sim.scene import Scene, field_layout, stamp_seconds
 from coach4sim.viewer_server import ViewerInputError, ViewerServer
 from nubot_common.match_mode import MatchMode
 from nubot_common.world_description import WorldDescription
-from nubot_tools.match_report import MatchReportError, build_typestore, world_from_msg
+from nubot_tools.report.match_report import MatchReportError, build_typestore, world_from_msg
 
 STATES = "/sim_visual/model_states"
 REFEREE = "/referee/state"

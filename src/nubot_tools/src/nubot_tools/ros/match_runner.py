@@ -453,7 +453,7 @@ def play(argv: list[str] | None) -> int:
     status = 0 if run.ended is None else CUT_SHORT_STATUS
     if args.no_report or not bag.exists():
         return status
-    from nubot_tools import match_report
+    from nubot_tools.report import match_report
 
     return match_report.main([str(bag), "--out", str(out)]) or status
 

@@ -45,7 +45,7 @@ from nubot_common.world_description import WorldDescription, load_world
 from nubot_control.agent import RobotAgent
 from nubot_control.params import ControlParams
 from nubot_match.statistics import share_interval
-from nubot_tools.bench_lockstep import machine
+from nubot_tools.bench.harness import machine
 from nubot_tools.workspace import BENCH_RESULTS
 from sim_visual.params import PluginParams, RobotSpawn, SimConfig
 from sim_visual.rules import lob_velocity

@@ -53,7 +53,7 @@ from nubot_common.geometry import Pose2D
 from nubot_common.packages import package_path
 from nubot_common.params import load_yaml
 from nubot_common.world_description import load_world
-from nubot_tools.bench_lockstep import machine, pinned
+from nubot_tools.bench.harness import machine, pinned
 from nubot_tools.workspace import BENCH_RESULTS
 from sim_visual.params import RobotSpawn, SimConfig
 from sim_visual.rgbd_camera import BALL

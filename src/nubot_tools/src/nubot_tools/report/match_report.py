@@ -1,6 +1,6 @@
 """Report on one match from its rosbag alone: score, possession, passes, shots, collisions, referee events, plots.
 
-    python -m nubot_tools.match_report matches/<match>/match.bag [--out DIR] [--field 18x12|22x14|PATH]
+    python -m nubot_tools.report.match_report matches/<match>/match.bag [--out DIR] [--field 18x12|22x14|PATH]
 
 Requires (any of these topics in the bag; the message definitions come from the bag itself, so
 neither ROS nor the workspace's .msg files are needed, only the ``rosbags`` package):
@@ -55,7 +55,7 @@ from nubot_common.params import from_mapping
 from nubot_common.world_description import BallBody, RobotBody, WorldDescription, load_world
 from nubot_match import match_analysis as ma
 from nubot_match import match_shots
-from nubot_tools import match_plots
+from nubot_tools.report import match_plots
 
 MATCH_TOPICS = {
     "/sim_visual/model_states": "nubot_common/msg/ModelStates",

@@ -60,7 +60,7 @@ from nubot_common.geometry import Pose2D, rotate, wrap_angle
 from nubot_common.packages import package_path
 from nubot_common.params import load_yaml
 from nubot_common.world_description import WorldDescription, load_world
-from nubot_tools.bench_lockstep import cpu_pressure, machine, pinned
+from nubot_tools.bench.harness import cpu_pressure, machine, pinned
 from nubot_tools.workspace import BENCH_RESULTS
 from omni_vision.colors import ColorTable
 from omni_vision.pipeline import OmniVision, OmniVisionParams

@@ -44,14 +44,13 @@ import io
 import json
 import math
 import os
-import platform
 import resource
 import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager, redirect_stderr, redirect_stdout
+from collections.abc import Sequence
+from contextlib import redirect_stderr, redirect_stdout
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
@@ -59,6 +58,7 @@ from typing import Any
 from nubot_match.config import match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.record import MatchListener
+from nubot_tools.bench.harness import Clock, cpu_pressure, machine, pinned, timed
 from nubot_tools.workspace import BENCH_RESULTS, TEAMS
 
 PARTS = ("lockstep", "recording", "physics", "env", "memory", "evaluate")
@@ -70,10 +70,6 @@ TARGET_EVALUATE_SPEEDUP = 1.8  # throughput of --jobs 2 over --jobs 1
 PYODE_REFERENCE = (60_000.0, 70_000.0)  # steps/s the reference measured for pyode alone on this machine
 RING = 1.0  # [m] radius of the robots' ring in the physics benchmarks (0: all in one scrum)
 COMMAND_PERIOD = 1.0 / 33.0  # [s] velocity commands in the physics benchmarks, as the control nodes send them
-LOAD_NOTE = ("Wall-clock figures: a loaded machine lowers them (see load_average and, per "
-             "pinned measurement, cpu_share = process CPU time / wall time; *_per_cpu_second is less affected).")
-
-
 @dataclass(frozen=True)
 class Durations:
     """How long each part runs."""
@@ -95,81 +91,6 @@ TARGET_MEMORY_MIB = 150.0  # one full match's process, its report included
 
 FULL = Durations(5.0, 60.0, 30_000, 60_000, 2_000, 900.0, 2, 8, 15.0, 2)  # memory: a full 2 x 15 min
 QUICK = Durations(2.0, 10.0, 3_000, 10_000, 200, 5.0, 1, 2, 5.0, 1)
-
-
-class CallTimer:
-    """Stands in for a bound method: calls it and adds up the calls and the wall time spent in them."""
-
-    def __init__(self, call: Callable[..., Any]):
-        self.call = call
-        self.calls = 0
-        self.seconds = 0.0
-
-    def __call__(self, *args: Any, **kwargs: Any) -> Any:
-        start = time.perf_counter()
-        try:
-            return self.call(*args, **kwargs)
-        finally:
-            self.seconds += time.perf_counter() - start
-            self.calls += 1
-
-    def clear(self) -> None:
-        self.calls, self.seconds = 0, 0.0
-
-
-def timed(owner: object, method: str) -> CallTimer:
-    """Replace ``owner.method`` by a ``CallTimer`` of it (an instance attribute: the class is untouched)."""
-    timer = CallTimer(getattr(owner, method))
-    setattr(owner, method, timer)
-    return timer
-
-
-def _threads() -> list[int]:
-    try:
-        return [int(tid) for tid in os.listdir("/proc/self/task")]
-    except OSError:
-        return [0]
-
-
-@contextmanager
-def pinned(cpu: int | None) -> Iterator[None]:
-    """Run the block with every thread of this process (numpy's BLAS threads too) on core ``cpu`` only (no
-    pinning for None); restore the affinities after it. Threads and processes started inside inherit it."""
-    if cpu is None:
-        yield
-        return
-    before = {tid: os.sched_getaffinity(tid) for tid in _threads()}
-    for tid in before:
-        os.sched_setaffinity(tid, {cpu})
-    try:
-        yield
-    finally:
-        for tid, cpus in before.items():
-            try:
-                os.sched_setaffinity(tid, cpus)
-            except OSError:  # the thread has ended
-                pass
-
-
-@dataclass
-class Clock:
-    """Wall and process CPU time of a measured stretch."""
-
-    wall: float = 0.0
-    cpu: float = 0.0
-
-    @contextmanager
-    def measure(self) -> Iterator[None]:
-        wall, cpu = time.perf_counter(), time.process_time()
-        try:
-            yield
-        finally:
-            self.wall += time.perf_counter() - wall
-            self.cpu += time.process_time() - cpu
-
-    @property
-    def cpu_share(self) -> float:
-        return self.cpu / self.wall if self.wall > 0 else math.nan
 
 
 def _r(x: float, digits: int = 2) -> float:
@@ -479,7 +400,7 @@ def match_process_figures(half_seconds: float, halves: int) -> None:
 
 
 def bench_memory(d: Durations, cpu: int | None) -> dict:
-    code = (f"from nubot_tools.bench_lockstep import match_process_figures; "
+    code = (f"from nubot_tools.bench.lockstep import match_process_figures; "
             f"match_process_figures({d.memory_half!r}, {d.memory_halves!r})")
     with pinned(cpu):  # the child inherits the affinity
         done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
@@ -528,28 +449,6 @@ def bench_evaluate(d: Durations) -> dict:
 
 
 # --- the machine, the plot, the table -----------------------------------------------------------------------------
-def cpu_pressure() -> float | None:
-    """The kernel's share of the last 60 s in which some runnable task waited for a CPU [%] (PSI), if known."""
-    try:
-        some = Path("/proc/pressure/cpu").read_text().splitlines()[0]
-        return float(dict(f.split("=") for f in some.split()[1:])["avg60"])
-    except (OSError, IndexError, KeyError, ValueError):
-        return None
-
-
-def machine(cpu: int | None) -> dict:
-    model = ""
-    try:
-        model = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
-                      if line.startswith("model name")), "")
-    except OSError:
-        pass
-    return {"cpus": os.cpu_count(), "affinity": sorted(os.sched_getaffinity(0)), "pinned_cpu": cpu,
-            "cpu_model": model, "python": platform.python_version(), "platform": platform.platform(),
-            "load_average_start": [_r(x) for x in os.getloadavg()],
-            "cpu_pressure_some_avg60_percent_start": cpu_pressure(), "note": LOAD_NOTE}
-
-
 def scenarios(results: dict) -> list[tuple[str, float]]:
     """(label, sim seconds per wall second) of every measured scenario, for the plot and the table."""
     rows: list[tuple[str, float]] = []

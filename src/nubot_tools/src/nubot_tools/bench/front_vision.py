@@ -32,7 +32,7 @@ from front_vision.pipeline import FrontVision
 from nubot_common.camera_model import PinholeCamera, load_camera
 from nubot_common.packages import package_path
 from nubot_common.world_description import WorldDescription
-from nubot_tools.bench_lockstep import cpu_pressure, machine, pinned
+from nubot_tools.bench.harness import cpu_pressure, machine, pinned
 from nubot_tools.workspace import BENCH_RESULTS
 from omni_vision.colors import ColorTable
 from sim_visual.camera_params import OmniCameraParams
