@@ -102,6 +102,8 @@ class AgentStep:
     report: StrategyReport
     world: WorldState
     packet: RobotView | None  # what this robot shares with its teammates now (None before its first percepts)
+    output: ControlOutput | None = None  # the strategy's full output; None while the robot is not valid
+    stale: bool = False  # the world model was too old to play on (``ControlStep.stale``)
 
 
 class RobotAgent:
@@ -112,6 +114,13 @@ class RobotAgent:
         self.name = name
         self.world_model = WorldModel(model or WorldModelParams(), name.agent_id, world)
         self.controller = Controller(control or ControlParams(), world, name.agent_id)
+
+    @classmethod
+    def around(cls, name: RobotName, world_model: WorldModel, controller: Controller) -> RobotAgent:
+        """The agent of a world model and a controller made elsewhere (the robot node's two halves)."""
+        agent = cls.__new__(cls)
+        agent.name, agent.world_model, agent.controller = name, world_model, controller
+        return agent
 
     @property
     def agent_id(self) -> int:
@@ -140,5 +149,7 @@ class RobotAgent:
     def step(self, t: float) -> AgentStep:
         world = self.world_model.snapshot(t)
         control = self.controller.step(t, world)
-        self.world_model.on_strategy(t, control.report)
-        return AgentStep(control.command, control.report, world, self.world_model.own_view(t))
+        if not control.stale:  # a robot on a stale world model stands out of play: no decision to take back
+            self.world_model.on_strategy(t, control.report)
+        return AgentStep(control.command, control.report, world, self.world_model.own_view(t), control.output,
+                         control.stale)

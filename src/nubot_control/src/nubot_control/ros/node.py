@@ -22,7 +22,7 @@ from nubot_common.srv import BallHandle, Shoot
 from nubot_common.team_play import StrategyReport
 from nubot_common.world_description import WORLD_NAMESPACE, world_from_params
 from nubot_common.world_state import CoachCommand, WorldState
-from nubot_control.agent import Controller
+from nubot_control.agent import Controller, ControlStep
 from nubot_control.motion import MotionController
 from nubot_control.params import ControlParams
 from nubot_control.planned_path import planned_path
@@ -97,11 +97,15 @@ class ControlNode:
 
     def cycle(self, now: float, world: WorldState) -> StrategyReport | None:
         """One control cycle at ``now`` on ``world``: decide, send; the strategy report (None while stale)."""
+        return self.act(now, world, self.controller.step(now, world))
+
+    def act(self, now: float, world: WorldState, step: ControlStep) -> StrategyReport | None:
+        """Send the control stage's decision ``step`` on ``world`` at ``now``: the velocity, the path and target
+        now and then, the ball handler's and kicker's requests, the strategy; its report (None while stale)."""
         if world.game.command != self.mode:
             self.mode = world.game.command
             rospy.loginfo("nubot_control: %s game command %s (previous %s)", self.robot, world.game.mode.name,
                           world.game.previous.name)
-        step = self.controller.step(now, world)
         self.cmd_pub.publish(conv.velcmd_msg(step.command.velocity))
         if step.stale != self.stale:
             self.stale = step.stale

@@ -30,6 +30,7 @@ from nubot_common.msg import (
 from nubot_common.naming import RobotNodeParams
 from nubot_common.node_io import publisher, timer
 from nubot_common.params import from_mapping, require_positive
+from nubot_common.percepts import RobotView
 from nubot_common.team_play import StrategyReport
 from nubot_common.world_description import WORLD_NAMESPACE, world_from_params
 from nubot_common.world_state import WorldState
@@ -145,6 +146,11 @@ class WorldModelNode:
         with self.lock:
             state = self.model.snapshot(now)
             view = self.model.own_view(now)
+        self.publish(now, state, view)
+        return state
+
+    def publish(self, now: float, state: WorldState, view: RobotView | None) -> None:
+        """Send the world decided at ``now`` and what the robot shares with its team (``view``, None: nothing)."""
         valid = {r.agent_id for r in state.teammates if r.valid}
         for gone in sorted(self.valid - valid):
             rospy.logwarn("world_model: %s: teammate %d is no longer valid (silent, lost or not playing); "
@@ -156,4 +162,3 @@ class WorldModelNode:
             self.flight_shown = state.flight is not None
         if view is not None:
             self.team_pub.publish(conv.team_message_msg(view, now))
-        return state
