@@ -54,7 +54,7 @@ _PULSES = (4.0, 6.4, 8.8, 11.2, 13.6, 16.0, 18.4, 20.8, 23.2, 25.6, 28.0, 30.4, 
 
 @dataclass(frozen=True)
 class ShotCalibration:
-    # fitted to the simulated drive's kicker (`fit_shot_calibration --simulate`); fit your robot's own
+    # fitted to the simulated drive's kicker (`simulate_kicks`, then `fit_shot_calibration`); fit your robot's own
     flat: ShotTable = ShotTable(_PULSES, (1.976, 3.549, 4.874, 5.99, 6.93, 7.721, 8.387, 8.949, 9.421, 9.819, 10.154,
                                           10.437, 10.674, 10.874, 11.043, 11.185))
     lob: ShotTable = ShotTable(_PULSES, (1.778, 3.194, 4.387, 5.391, 6.237, 6.949, 7.549, 8.054, 8.479, 8.837, 9.139,
