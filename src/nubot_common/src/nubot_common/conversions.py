@@ -28,7 +28,7 @@ import genpy
 from nubot_common import NubotCommonError
 from nubot_common.commands import BodyVelocity
 from nubot_common.field import FieldGeometry
-from nubot_common.geometry import Pose2D
+from nubot_common.geometry import Pose2D, yaw_to_quaternion
 from nubot_common.match_mode import MatchMode, parse_match_mode
 from nubot_common.msg import (
     BallBody as BallBodyMsg,
@@ -86,7 +86,8 @@ def model_state_msg(name: str, x: float, y: float, z: float = 0.0, yaw: float = 
     """A SetModelState request's model at rest at (x, y, z) [m], heading ``yaw`` [rad], world frame."""
     state = ModelState(model_name=name, reference_frame="world")
     state.pose.position.x, state.pose.position.y, state.pose.position.z = x, y, z
-    state.pose.orientation.z, state.pose.orientation.w = math.sin(yaw / 2.0), math.cos(yaw / 2.0)
+    o = state.pose.orientation
+    o.x, o.y, o.z, o.w = yaw_to_quaternion(yaw)
     return state
 
 

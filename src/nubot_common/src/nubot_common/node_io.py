@@ -53,6 +53,11 @@ import genpy
 import rospy
 from rosgraph_msgs.msg import Clock
 
+from nubot_common import NubotCommonError
+from nubot_common.conversions import model_state_msg
+from nubot_common.msg import WorldModelInfo
+from nubot_common.srv import SetModelState
+
 _STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 
@@ -194,8 +199,6 @@ def timer(period: float, callback: Callable[[rospy.timer.TimerEvent], None]) -> 
 
 def wait_for_robots(names: list[str], timeout: float, stop: Callable[[], bool] = lambda: False) -> list[str]:
     """Wait until every robot publishes its world model (or ``stop()`` says so); return the ones still silent."""
-    from nubot_common.msg import WorldModelInfo
-
     heard: set[str] = set()
     subs = [rospy.Subscriber(f"/{n}/worldmodel/worldmodelinfo", WorldModelInfo,
                              lambda _m, n=n: heard.add(n), queue_size=1) for n in names]
@@ -213,12 +216,7 @@ def set_model_state(name: str, x: float, y: float, z: float = 0.0, yaw: float = 
     """Put the simulator's model ``name`` at rest at (x, y, z) [m], heading ``yaw`` [rad] (the simulator's
     set_model_state service, waited for up to ``timeout`` s); raise ``NubotCommonError`` with its answer if it
     refuses."""
-    from nubot_common import NubotCommonError
-    from nubot_common.conversions import model_state_msg
-    from nubot_common.srv import SetModelState
-
     rospy.wait_for_service("/sim_visual/set_model_state", timeout=timeout)
     answer = rospy.ServiceProxy("/sim_visual/set_model_state", SetModelState)(model_state_msg(name, x, y, z, yaw))
     if not answer.success:
         raise NubotCommonError(f"set_model_state {name}: {answer.status_message}")
-
