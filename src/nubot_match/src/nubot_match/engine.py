@@ -42,6 +42,7 @@ from nubot_control.agent import AgentStep, RobotAgent
 from nubot_match import NubotMatchError
 from nubot_match.config import MatchConfig
 from nubot_match.record import MatchListener
+from sim_visual.host import SensorSchedule
 from sim_visual.params import RobotSpawn, SimConfig
 from sim_visual.simulator import BallKicked, BallTouched, GoalScored, SimEvent, Simulator
 from sim_visual.world import BallState
@@ -102,10 +103,9 @@ class LockstepMatch:
         self.game = GameController([TeamSpec(t.config.prefix, t.config.attack, t.config.goalie) for t in cfg.teams])
         self.referee = AutomaticReferee(cfg.referee, self.game)
         self.steps = {}
-        self._vision = Periodic(1.0 / cfg.sim.vision_rate)
+        self._sensors = SensorSchedule(cfg.sim)  # the simulator node's: its percept and model-state clocks
         self._control = {period: Periodic(period) for period in set(self.control_period.values())}
         self._judge = Periodic(cfg.referee_period)
-        self._states = Periodic(1.0 / cfg.sim.model_states_rate)
         self._state_out = Periodic(STATE_PERIOD)
         self._sent: dict[str, tuple[MatchMode, MatchMode]] = {}
         self._published: GameStateData | None = None
@@ -191,7 +191,7 @@ class LockstepMatch:
         t = sim.time
         if self._judge.due(t):
             self._referee_tick(t, out)
-        if self._vision.due(t):
+        if self._sensors.vision.due(t):
             for (name, agent), view in zip(self.agents.items(), sim.observe_all(self.agents)):
                 agent.on_vision(view)
                 if name in self.goalies:  # its own generator: draws nothing from the one above
@@ -203,7 +203,7 @@ class LockstepMatch:
             self._control_cycle(t, set(due), actions, out)
         events = sim.step()
         self._note_events(events, out)
-        if self._states.due(sim.time):
+        if self._sensors.states.due(sim.time):
             states = sim.model_states()
             for listener in self.listeners:
                 listener.clock(sim.time)
