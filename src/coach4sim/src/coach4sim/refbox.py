@@ -9,7 +9,7 @@ Provides:
 - ``parse_command`` (``{"command", "targetTeam", "robotID"}`` -> ``RefboxCommand``), ``COMMAND_RULES`` (what every
   box command means for our robots) and ``map_command`` -> ``CommandEffect``: the ``MatchMode`` our team gets
   (OUR_x when ``targetTeam`` is our address or name, OPP_x when it is another's), or none with the reason;
-  ``modes_for_teams`` adds the mirrored command for the other team when both teams are ours.
+  ``team_book`` holds our team(s)' commands as the referee would: the other team, when ours too, gets the mirror.
 - ``build_worldstate`` (the ``worldstate`` JSON the box logs, exactly its required keys), ``choose_ball``,
   ``merge_obstacles`` and ``worldstate_problems`` / ``check_worldstate`` (the box's required keys and types).
 - ``Backoff`` (reconnect delays), ``OutageLog`` (one log line per outage), ``RateMeter`` and ``RefboxClientParams``.
@@ -43,6 +43,8 @@ from enum import Enum
 from typing import Any
 
 from coach4sim import CoachError
+from coach4sim.game import GameController
+from coach4sim.params import TeamSpec
 from nubot_common import NubotCommonError
 from nubot_common.match_mode import MatchMode
 from nubot_common.naming import check_team_prefix
@@ -283,12 +285,10 @@ def map_command(command: RefboxCommand, us: TeamIdentity) -> CommandEffect:
     return CommandEffect(command, mode, f"{command} ({'us' if ours else 'them'}) -> {mode.name}")
 
 
-def modes_for_teams(mode: MatchMode, team: str, other_team: str = "") -> dict[str, MatchMode]:
-    """``mode`` for our ``team`` and, when the other team is ours too, its mirror for ``other_team``."""
-    modes = {team: mode}
-    if other_team:
-        modes[other_team] = mode.mirrored()
-    return modes
+def team_book(teams: Sequence[str]) -> GameController:
+    """Our team(s), the first the box's, as the referee holds them: ``command(teams[0], mode)`` gives the second
+    team, when it is ours too, the mirror; a repeated command keeps the previous one (MatchType) meaningful."""
+    return GameController([TeamSpec(team, 1 - 2 * i) for i, team in enumerate(teams)])
 
 
 # --- the worldstate --------------------------------------------------------------------------------------

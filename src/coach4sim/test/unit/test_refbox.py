@@ -31,8 +31,8 @@ from coach4sim.refbox import (
     encode_message,
     map_command,
     merge_obstacles,
-    modes_for_teams,
     parse_command,
+    team_book,
     worldstate_problems,
 )
 from nubot_common.match_mode import MatchMode as M
@@ -200,11 +200,17 @@ def test_when_both_teams_are_ours_the_other_team_gets_the_mirror_of_every_comman
         if effect.mode is None:
             assert nubot_mode is None and rival_mode is None
             continue
-        assert modes_for_teams(effect.mode, "nubot", "rival") == {"nubot": nubot_mode, "rival": rival_mode}
+        book = team_book(("nubot", "rival"))
+        book.command("nubot", effect.mode)
+        assert {t.spec.prefix: t.mode for t in book.teams} == {"nubot": nubot_mode, "rival": rival_mode}
 
 
-def test_a_single_team_gets_only_its_own_command():
-    assert modes_for_teams(M.OUR_CORNERKICK, "nubot") == {"nubot": M.OUR_CORNERKICK}
+def test_a_single_team_gets_only_its_own_command_and_a_repeated_one_keeps_the_previous():
+    book = team_book(("nubot",))
+    book.command("nubot", M.OUR_CORNERKICK)
+    book.command("nubot", M.STARTROBOT)
+    book.command("nubot", M.STARTROBOT)
+    assert [(t.spec.prefix, t.mode, t.previous) for t in book.teams] == [("nubot", M.STARTROBOT, M.OUR_CORNERKICK)]
 
 
 def test_the_robot_id_of_a_card_is_reported_and_changes_nothing():
