@@ -1,4 +1,4 @@
 from catkin_pkg.python_setup import generate_distutils_setup
 from setuptools import setup
 
-setup(**generate_distutils_setup(packages=["kinect_ball"], package_dir={"": "src"}))
+setup(**generate_distutils_setup(packages=["kinect_ball", "kinect_ball.ros"], package_dir={"": "src"}))

@@ -24,8 +24,8 @@ from pathlib import Path
 import pytest
 from rosbags.rosbag1 import Reader
 
+from nubot_match.bag_reader import build_typestore
 from nubot_tools.node_watch import node_pid
-from nubot_tools.report.match_report import build_typestore
 from nubot_tools.ros.match_runner import CUT_SHORT_STATUS, RUN_FILE
 
 pytestmark = pytest.mark.integration

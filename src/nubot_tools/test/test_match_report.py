@@ -32,6 +32,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from nubot_common.field import FieldGeometry
 from nubot_common.world_description import WorldDescription
 from nubot_match import match_analysis as ma
+from nubot_match.bag_reader import MatchBagError, read_match
 from nubot_tools.report import match_plots, match_report
 
 MSG_DIR = Path(__file__).resolve().parents[2] / "nubot_common" / "msg"
@@ -332,7 +333,7 @@ def test_summary_prints_collisions_and_ball_reach(tmp_path):
 
 def test_progress_is_reported_every_tenth_of_the_messages(match_bag):
     calls = []
-    match_report.read_match(match_bag, lambda done, total, t: calls.append((done, total, t)))
+    read_match(match_bag, lambda done, total, t: calls.append((done, total, t)))
     total = calls[0][1]
     assert len(calls) == 10 and calls[-1] == (total, total, 20.0)
     assert [10 * done // total for done, _, _ in calls] == list(range(1, 11))
@@ -378,8 +379,8 @@ def test_not_a_bag_exits_2(tmp_path, capsys):
 
 
 def test_read_match_raises_for_a_missing_bag(tmp_path):
-    with pytest.raises(match_report.MatchReportError, match="no such bag file"):
-        match_report.read_match(tmp_path / "nope.bag")
+    with pytest.raises(MatchBagError, match="no such bag file"):
+        read_match(tmp_path / "nope.bag")
 
 
 @pytest.mark.parametrize("argv", [["--attack", "nubot"], ["--attack", "nubot=+y"]])
@@ -515,7 +516,7 @@ def test_model_states_sharing_clock_times_are_spread_out(good_stamps, tmp_path):
     assert r["distance_run_m"] == good_stamps["distance_run_m"]
     assert timed_events(r) == timed_events(good_stamps)
     assert r["collisions"]["per_minute"] == good_stamps["collisions"]["per_minute"]
-    ball = match_report.read_match(tmp_path / "match.bag").tracks["football"]
+    ball = read_match(tmp_path / "match.bag").tracks["football"]
     assert (np.diff(ball.t) > 0).all()  # no two samples share a time
 
 
@@ -530,7 +531,7 @@ def test_the_field_comes_from_the_bag_s_world_description(tmp_path):
     assert bag_field["field"] == {"length_m": 22.0, "width_m": 14.0, "goal_width_m": 2.4, "source": "bag"}
     assert bag_field["shots"] == {"nubot": 1, "rival": 0}  # from 9.5 m: 1.5 m before the 22 m field's goal line
     assert bag_field["warnings"] == []
-    log = match_report.read_match(tmp_path / "bag" / "match.bag")
+    log = read_match(tmp_path / "bag" / "match.bag")
     assert log.world == WIDE
     fig = match_plots.plot_trajectories(log.tracks, ["nubot", "rival"], log.world.field, tmp_path / "traj.png")
     assert (fig.axes[0].get_xlim(), fig.axes[0].get_ylim()) == ((-12.0, 12.0), (-8.0, 8.0))

@@ -7,10 +7,10 @@ import pytest
 
 from coach4sim.viewer_server import ViewerInputError
 from nubot_match.bag import BagRecorder
+from nubot_match.bag_reader import MatchBagError
 from nubot_match.config import match_config
 from nubot_match.engine import LockstepMatch
 from nubot_tools.replay import ReplayBackend, ReplayClock, load_timeline, main
-from nubot_tools.report.match_report import MatchReportError
 
 
 @pytest.fixture(scope="module")
@@ -83,5 +83,5 @@ def test_bags_that_cannot_be_replayed_get_one_clear_line(tmp_path, capsys):
     junk.write_bytes(b"not a bag at all")
     assert main([str(junk)]) == 2
     assert "not a readable ROS 1 bag" in capsys.readouterr().err
-    with pytest.raises(MatchReportError, match="no such bag"):
+    with pytest.raises(MatchBagError, match="no such bag"):
         load_timeline(tmp_path / "nothing.bag")

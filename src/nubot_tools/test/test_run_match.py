@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from nubot_match.bag_reader import read_match
 from nubot_tools.browser import Page
-from nubot_tools.report.match_report import read_match
 
 pytestmark = pytest.mark.integration
 

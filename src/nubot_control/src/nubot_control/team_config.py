@@ -76,10 +76,11 @@ def team_launch_xml(team: TeamConfig, tracker: str = "", vision: RobotSelection 
              f"    <param name=\"team\" value={quoteattr(team.prefix)}/>",
              f"    <param name=\"team_size\" value=\"{len(team.robots)}\"/>",
              "  </node>"]
-    for name in team.robot_names():
+    for agent, name in enumerate(team.robot_names(), 1):
         lines += ["  <include file=\"$(find nubot_control)/launch/robot.launch\">",
                   f"    <arg name=\"robot\" value={quoteattr(name)}/>",
                   f"    <arg name=\"goalie_id\" value=\"{team.goalie}\"/>",
+                  f"    <arg name=\"goalie\" value=\"{'true' if agent == team.goalie else 'false'}\"/>",
                   f"    <arg name=\"config\" value={quoteattr(team.control_config)}/>",
                   f"    <arg name=\"tracker\" value={quoteattr(tracker)}/>",
                   f"    <arg name=\"strategy\" value={quoteattr(team.strategy)}/>",

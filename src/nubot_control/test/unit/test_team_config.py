@@ -32,6 +32,8 @@ def test_launch_file_prefixes_every_robot():
     assert relay.get("clear_params") == "true", "a key an earlier team launch left cannot refuse the relay"
     robots = [inc.find("arg[@name='robot']").get("value") for inc in root.findall("include")]
     assert robots == [f"rival{k}" for k in range(1, 6)]
+    goalies = [inc.find("arg[@name='goalie']").get("value") for inc in root.findall("include")]
+    assert goalies == ["true" if k == team.goalie else "false" for k in range(1, 6)] and goalies.count("true") == 1
     assert {inc.find("arg[@name='tracker']").get("value") for inc in root.findall("include")} == {""}
     chosen = ET.fromstring(team_launch_xml(team, "baseline"))
     assert {inc.find("arg[@name='tracker']").get("value") for inc in chosen.findall("include")} == {"baseline"}

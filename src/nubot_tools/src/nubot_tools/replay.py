@@ -35,7 +35,7 @@ from coach4sim.scene import Scene, field_layout, stamp_seconds
 from coach4sim.viewer_server import ViewerInputError, ViewerServer
 from nubot_common.match_mode import MatchMode
 from nubot_common.world_description import WorldDescription
-from nubot_tools.report.match_report import MatchReportError, build_typestore, world_from_msg
+from nubot_match.bag_reader import MatchBagError, build_typestore, world_from_msg
 
 STATES = "/sim_visual/model_states"
 REFEREE = "/referee/state"
@@ -84,15 +84,15 @@ def _wanted(topic: str) -> bool:
 def load_timeline(bag: Path, rate: float = 20.0,
                   progress: Callable[[float], None] | None = None) -> Timeline:
     """Read ``bag`` into a ``Timeline`` of ``rate`` frames per second of sim time; ``progress(share)`` now and
-    then. Raises ``MatchReportError`` for a missing or unreadable bag or one without model states."""
+    then. Raises ``MatchBagError`` for a missing or unreadable bag or one without model states."""
     if not bag.is_file():
-        raise MatchReportError(f"no such bag file: {bag}")
+        raise MatchBagError(f"no such bag file: {bag}")
     try:
         with Reader(bag) as reader:
             conns = [c for c in reader.connections if _wanted(c.topic)]
             if not any(c.topic == STATES for c in conns):
                 found = ", ".join(sorted({c.topic for c in reader.connections})) or "no topics at all"
-                raise MatchReportError(f"{bag} has no {STATES}: nothing to draw; it has: {found}")
+                raise MatchBagError(f"{bag} has no {STATES}: nothing to draw; it has: {found}")
             typestore = build_typestore(conns)
             world = WorldDescription()
             for conn, _, raw in reader.messages(connections=[c for c in conns if c.topic == WORLD]):
@@ -132,7 +132,7 @@ def load_timeline(bag: Path, rate: float = 20.0,
                 timeline.times.append(max(scene.t, timeline.times[-1]))
                 timeline.frames.append(final)
     except ReaderError as exc:
-        raise MatchReportError(f"{bag} is not a readable ROS 1 bag: {exc}") from exc
+        raise MatchBagError(f"{bag} is not a readable ROS 1 bag: {exc}") from exc
     timeline.marks.sort(key=lambda k: k.t)
     return timeline
 
@@ -237,14 +237,14 @@ def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
     try:
         if not 1.0 <= args.rate <= 100.0:
-            raise MatchReportError(f"--rate must lie in [1, 100] frames per second, got {args.rate:g}")
+            raise CoachError(f"--rate must lie in [1, 100] frames per second, got {args.rate:g}")
         print(f"replay: reading {args.bag}", flush=True)
         timeline = load_timeline(args.bag, args.rate,
                                  lambda share: print(f"replay: {100 * share:.0f} % read", flush=True))
         backend = ReplayBackend(timeline, args.bag.name)
         backend.clock.set_speed(args.speed)
         server = ViewerServer(backend, args.host, args.port, args.token, rate=25.0)
-    except (MatchReportError, CoachError) as exc:
+    except (MatchBagError, CoachError) as exc:
         print(f"replay: {exc}", file=sys.stderr)
         return 2
     print(f"replay: {len(timeline.frames)} frames, {timeline.end - timeline.start:.1f} s of match, "
