@@ -3,10 +3,10 @@ launch files clear each node's private parameters before loading its own.
 
 Three kinds of places may import rospy, and no robot or simulator decision lives in any: ``nubot_tools.ros``,
 tools that drive a ROS graph from outside (the match runner, the spawner, the benchmarks), as ``rostopic`` does;
-``nubot_common.node_io``, the rospy plumbing the nodes share; and a package's ``<pkg>.ros``, adapters its nodes
-share (``coach4sim.ros``: the coach's way of sending a game command, which the coach, the viewer and the RefBox
-client share; ``world_model.ros`` and ``nubot_control.ros``: the two nodes' classes, which the robot node runs
-together).
+``nubot_common.node_io``, the rospy plumbing the nodes share; and a package's ``<pkg>.ros``, the ROS side of its
+nodes (parameters, topics, services, timers, conversions; e.g. ``world_model.ros`` and ``nubot_control.ros``: the
+two nodes' classes, which the robot node runs together; ``coach4sim.ros.sender``: the way of sending a game command
+that the coach, the viewer and the RefBox client share). No core module imports an adapter.
 """
 
 import ast
@@ -18,18 +18,17 @@ WORKSPACE_SRC = Path(__file__).resolve().parents[2]
 
 def test_core_modules_never_import_rospy():
     offenders = []
-    adapters = tuple(f"{pkg}/ros/" for pkg in ("nubot_tools", "coach4sim", "world_model", "nubot_control"))
-    cores = sorted(p for p in WORKSPACE_SRC.glob("*/src/*/**/*.py")
-                   if not any(a in p.as_posix() for a in adapters) and p.name != "node_io.py")
-    assert cores, "no core modules found"
+    adapters = sorted(WORKSPACE_SRC.glob("*/src/*/ros/*.py"))
+    cores = sorted(p for p in WORKSPACE_SRC.glob("*/src/*/**/*.py") if p not in adapters and p.name != "node_io.py")
+    assert cores and adapters, "no core modules or no adapters found"
     for path in cores:
         tree = ast.parse(path.read_text(), str(path))
         for node in ast.walk(tree):
             names = [a.name for a in node.names] if isinstance(node, ast.Import) else \
                 [node.module or ""] if isinstance(node, ast.ImportFrom) else []
-            if any(n == "rospy" or n.startswith("rospy.") for n in names):
+            if any(n == "rospy" or n.startswith("rospy.") or ".ros." in f"{n}." for n in names):
                 offenders.append(f"{path.relative_to(WORKSPACE_SRC)}:{node.lineno}")
-    assert not offenders, f"core modules import rospy: {offenders}"
+    assert not offenders, f"core modules import rospy or a node's adapter: {offenders}"
 
 
 def test_scripts_are_two_lines_around_a_package_module():
