@@ -1,7 +1,8 @@
 """The goalie's whole software over real ROS against a lob: the simulator gives nubot2 (its team's goalie by the
-simulator's ``goalies`` and robot.launch's ``goalie_id``, not AgentID 1) camera images and its two RGB-D clouds;
-omni_vision, kinect_ball, world_model and nubot_control (``robot.launch perception:=vision``) see the lob, announce
-its touchdown on ``/nubot2/worldmodel/ballflight``, plan a path to meet it on the lob line and take the goalie there.
+simulator's ``goalies`` and robot.launch's ``goalie_id`` and ``goalie``, not AgentID 1) camera images and its two
+RGB-D clouds; omni_vision, kinect_ball, world_model and nubot_control (``robot.launch perception:=vision``) see the
+lob, announce its touchdown on ``/nubot2/worldmodel/ballflight``, plan a path to meet it on the lob line and take the
+goalie there.
 
 Whether this one lob is then kept out is not asserted: that is decided by hundredths of a second (in one process
 without ROS the same lob was saved with the goalie's commands 0.1 s and 0.2 s late and scored with them 0.15 s late;
@@ -122,7 +123,7 @@ def test_a_goalie_seeing_through_its_cameras_meets_a_lob_where_it_comes_down(ros
         assert _service("/sim_visual/spawn_model", SpawnModel)(GOALIE, pose, 1).success
         _set_ball(launch.x, launch.y, radius)
         robot = ros_master.launch("goalie", ["roslaunch", "nubot_control", "robot.launch", f"robot:={GOALIE}",
-                                             "goalie_id:=2", "perception:=vision"])
+                                             "goalie_id:=2", "goalie:=true", "perception:=vision"])
         coach = ros_master.launch("coach", ["rostopic", "pub", "-r", "10", "/nubot/receive_from_coach",
                                             "nubot_common/CoachInfo", "\nMatchMode: 15\nMatchType: 0 "])
 

@@ -212,7 +212,7 @@ class RosMaster:
         self.stop()
 
     def use_in_this_process(self) -> None:
-        """Point this process at the master (ROS_MASTER_URI, ROS_IP, ROS_LOG_DIR): for rospy, imported after this."""
+        """Point this process at the master (ROS_MASTER_URI, ROS_IP, ROS_LOG_DIR): rospy reads them at init_node."""
         os.environ.update({k: self.env[k] for k in ("ROS_MASTER_URI", "ROS_IP", "ROS_LOG_DIR")})
 
     def wait_until_up(self, timeout: float = 30.0) -> None:

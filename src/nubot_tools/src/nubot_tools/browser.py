@@ -15,6 +15,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.support.ui import Select
+
 CHROMIUM = "/usr/bin/chromium"
 CHROMEDRIVER = "/usr/bin/chromedriver"
 FLAGS = ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -24,9 +28,6 @@ FLAGS = ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-quic", "-
 
 class Page:
     def __init__(self, url: str, width: int = 1500, height: int = 860):
-        from selenium import webdriver
-        from selenium.webdriver.chrome.service import Service
-
         self._profile = tempfile.TemporaryDirectory(prefix="viewer-chromium-")
         options = webdriver.ChromeOptions()
         options.binary_location = CHROMIUM
@@ -63,8 +64,6 @@ class Page:
         self.driver.find_element("css selector", css).click()
 
     def select(self, element_id: str, value: str) -> None:
-        from selenium.webdriver.support.ui import Select
-
         Select(self.driver.find_element("id", element_id)).select_by_value(value)
 
     def slide(self, element_id: str, value: float) -> None:

@@ -19,6 +19,7 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+import cv2
 import numpy as np
 import yaml
 
@@ -38,8 +39,6 @@ _TRIES = 200  # poses tried per view
 
 
 def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
-    import cv2
-
     r, _ = cv2.Rodrigues(np.asarray(axis, np.float64) * angle)
     return r
 

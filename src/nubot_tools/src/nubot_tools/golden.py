@@ -48,7 +48,10 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import enum
+import hashlib
 import json
+import lzma
 import math
 import sys
 from collections.abc import Callable
@@ -57,14 +60,24 @@ from typing import Any
 
 import numpy as np
 
+from nubot_common.field import FieldGeometry
+from nubot_common.kinect_mount import CameraMount
+from nubot_common.world_description import BallBody, RobotBody, WorldDescription
+from nubot_control.motion import MotionController
+from nubot_match.config import match_config
+from nubot_match.engine import LockstepMatch
 from nubot_tools.workspace import TEAMS
+from sim_visual import simulator
+from sim_visual.front_camera import FrontCameraRenderer
+from sim_visual.params import PhysicsParams, SensorParams
+from sim_visual.rgbd_camera import BALL, RgbdCameraRenderer
+from sim_visual.world import BallState, PhysicsWorld, RobotState
+from world_model.obstacles import ObstacleTracker
+from world_model.world_model import WorldModel
 
 
 def play(seeds: list[int], seconds: float, tracker: str = "mpc") -> None:
     """Lockstep matches of the default teams with ``tracker`` (the MPC's by default), ``seconds`` of sim time each."""
-    from nubot_match.config import match_config
-    from nubot_match.engine import LockstepMatch
-
     for seed in seeds:
         config = match_config(TEAMS / "nubot.yaml", TEAMS / "rival.yaml", "18x12", tracker, half_seconds=600.0,
                               halves=2, seed=seed)
@@ -98,8 +111,6 @@ def play_wrapped(owner: Any, wrappers: dict[str, Callable[..., Any]], seeds: lis
 def record_obstacles(seeds: list[int], seconds: float, trackers: int) -> dict[str, np.ndarray]:
     """Every call of ``--trackers`` robots' ``ObstacleTracker`` (drawn with the seeded generator), in order: an
     update's frame time and percepts (kind 0), an estimate's time and its tracks, positions and velocities (kind 1)."""
-    from world_model.obstacles import ObstacleTracker
-
     calls: dict[int, list[tuple[int, float, np.ndarray]]] = {}
     made: list[Any] = []
     update, estimate = ObstacleTracker.update, ObstacleTracker.estimate
@@ -151,9 +162,6 @@ def record_follow(seeds: list[int], seconds: float, trackers: int, tracker: str 
     """Every ``follow`` and ``reset`` of ``trackers`` robots' ``MotionController`` in order (kind 0 a cycle with its
     inputs and answers, kind 1 a reset): a robot that stepped urgently, one reset and one that held the ball if the
     matches have them, the rest drawn with the seeded generator."""
-    from nubot_common.world_description import WorldDescription
-    from nubot_control.motion import MotionController
-
     calls: dict[int, list[tuple]] = {}
     made: list[Any] = []
     follow, reset = MotionController.follow, MotionController.reset
@@ -253,11 +261,6 @@ def record_physics(seeds: list[int], seconds: float) -> dict[str, np.ndarray]:
     ``holder``: the robot whose ball contacts are ignored (-1 none); ``step``: dt, and in the robot column the touched
     robots as a bit mask; ``robot`` / ``ball``: the body after the step. Robots are numbered in the order a world
     added them. The worlds were built with the default field, physics, robot and ball (checked)."""
-    from nubot_common.field import FieldGeometry
-    from nubot_common.world_description import BallBody, RobotBody
-    from sim_visual.params import PhysicsParams
-    from sim_visual.world import PhysicsWorld
-
     rows: list[tuple[int, int, int, list[float]]] = []
     ids: dict[int, int] = {}
     names: dict[int, list[str]] = {}
@@ -352,8 +355,6 @@ def record_physics(seeds: list[int], seconds: float) -> dict[str, np.ndarray]:
 def encode(value: Any) -> Any:
     """A tagged JSON tree of ``value``: a record (dataclass, named tuple) as {"_": its class, "f": its fields in
     order}, an enum member as {"_e": its class, "v": its value}, a tuple as {"_t": its items}."""
-    import enum
-
     if isinstance(value, enum.Enum):
         return {"_e": type(value).__name__, "v": value.value}
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
@@ -390,8 +391,6 @@ def record_world(seeds: list[int], seconds: float, trackers: int) -> list[dict]:
     arguments, each once ({"object": key, "value"}), then the calls ({"robot", "call", "args", "result"}, an argument
     {"@": key} one of those records); of the reads (``snapshot``, ``own_view``) every other result is kept (None: not
     kept), to 12 significant digits."""
-    from world_model.world_model import WorldModel
-
     calls: dict[int, list[dict]] = {}
     made: list[Any] = []
     originals = {name: getattr(WorldModel, name) for name in WORLD_CALLS}
@@ -454,8 +453,6 @@ def record_sensing(seeds: list[int], seconds: float) -> dict[str, np.ndarray]:
     vy, the five noise parameters; ``others``: each other robot's six numbers) and the normal numbers it drew
     (``normals``), and what it gave (``robot``: pose x, y, theta, vx, vy, w; ``ball``: seen, x, y, vx, vy;
     ``obstacles``: x, y each). Ragged parts come with their ``_offsets``."""
-    from sim_visual import simulator
-
     frames: list[list[float]] = []
     others: list[np.ndarray] = []
     normals: list[np.ndarray] = []
@@ -508,17 +505,6 @@ def record_cameras(seeds: list[int], seconds: float, period: float = 0.3, cylind
     - ``cast``: every RGB-D ray cast (``RgbdCameraRenderer.cast``): the viewpoint and rotation (twelve numbers);
       ``shapes`` (six numbers each, ragged); what each ray met (``kind``, ragged), the ranges of the rays that met
       the ball (``ranges``, ragged) and the SHA-256 of all the ranges' bytes (``ranges_sha``)."""
-    import hashlib
-
-    from nubot_common.kinect_mount import CameraMount
-    from nubot_common.world_description import WorldDescription
-    from nubot_match.config import match_config
-    from nubot_match.engine import LockstepMatch
-    from sim_visual.front_camera import FrontCameraRenderer
-    from sim_visual.params import SensorParams
-    from sim_visual.rgbd_camera import BALL, RgbdCameraRenderer
-    from sim_visual.world import BallState, RobotState
-
     paints: list[list[float]] = []
     side_bits: list[np.ndarray] = []
     top_bits: list[np.ndarray] = []
@@ -643,8 +629,6 @@ def main(argv: list[str] | None = None) -> int:
         ap.error("--seeds, --seconds and --trackers must be positive")
     seeds = list(range(args.seeds))
     if args.piece == "world":
-        import lzma
-
         records = record_world(seeds, args.seconds, args.trackers)
         args.out.parent.mkdir(parents=True, exist_ok=True)
         with lzma.open(args.out, "wt", encoding="utf-8", preset=9) as out:

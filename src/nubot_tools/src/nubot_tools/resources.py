@@ -13,7 +13,9 @@ from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+import matplotlib.pyplot as plt
 import numpy as np
+import psutil
 
 
 @dataclass(frozen=True)
@@ -40,8 +42,6 @@ class ResourceLog:
     """Samples every process below ``roots()`` (pids), e.g. each launch of a match."""
 
     def __init__(self, roots: Callable[[], Iterable[int]], clock: Callable[[], float]):
-        import psutil  # only the sampler needs it; growth and plots work on a saved log
-
         self._psutil = psutil
         self.roots, self.clock = roots, clock
         self.samples: list[Sample] = []
@@ -112,11 +112,6 @@ def growth(samples: list[Sample], warmup: float) -> dict[str, dict[str, float]]:
 
 
 def plot_resources(samples: list[Sample], path: Path, warmup: float, title: str) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     kinds = sorted({node_kind(s.process) for s in samples})
     colours = {k: plt.get_cmap("tab10")(i % 10) for i, k in enumerate(kinds)}
     fig, (ax_rss, ax_cpu) = plt.subplots(2, 1, figsize=(11, 8), sharex=True)

@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Any
 
 import cv2
+import matplotlib.pyplot as plt
 import numpy as np
 
 from front_vision.pipeline import FrontVision
@@ -155,11 +156,6 @@ def summarise(args: argparse.Namespace, rows: list[dict[str, Any]], process_ms: 
 
 
 def plot(results: dict[str, Any], process_ms: list[float], path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     rows = results["samples"]
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2))
     seen = [r for r in rows if r["error_cm"] is not None]

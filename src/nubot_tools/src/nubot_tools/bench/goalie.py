@@ -31,6 +31,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
+import matplotlib.pyplot as plt
 import numpy as np
 
 from kinect_ball.pipeline import KinectBall, KinectBallParams
@@ -168,11 +169,6 @@ def summarise(shots: list[Shot]) -> dict[str, Any]:
 
 
 def plot(summary: dict[str, Any], label: str, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, ax = plt.subplots(figsize=(6.4, 3.6))
     width = 0.38
     for k, kind in enumerate(("lob", "ground")):

@@ -20,15 +20,21 @@ import sys
 import tempfile
 from pathlib import Path
 
+from nubot_comm import netns
+from nubot_hwcontrol.controller import HardwareController, HwControlParams
+from nubot_hwcontrol.sim_drive import SimulatedDrive
+from nubot_hwcontrol.sim_world import SimulatorWorld
+from sim_visual.params import RobotSpawn, SimConfig
+from sim_visual.simulator import Simulator
+
+
+def figure_command(t: float) -> tuple[float, float, float]:
+    """The figure of eight both the in-process drift and the real robot's run drive: 2 m/s, turning left then right
+    every 5 s [m/s, m/s, rad/s]."""
+    return 2.0, 0.0, 1.2 * (1.0 if math.sin(2.0 * math.pi * t / 10.0) >= 0.0 else -1.0)
+
 
 def in_process_drift(goalie: bool, seed: int, seconds: float = 60.0) -> dict:
-    from nubot_hwcontrol.controller import HardwareController, HwControlParams
-    from nubot_hwcontrol.sim_drive import SimulatedDrive
-    from nubot_hwcontrol.sim_world import SimulatorWorld
-    from nubot_tools.ros.real_robot_run import figure_command
-    from sim_visual.params import RobotSpawn, SimConfig
-    from sim_visual.simulator import Simulator
-
     sim = Simulator(SimConfig(robots=(RobotSpawn("nubot1", -1.0, 0.0, 0.0),), ball_start=(3.0, 4.0), seed=seed))
     params = HwControlParams()
     ctl = HardwareController(params, SimulatedDrive(SimulatorWorld(sim, "nubot1"), params.layout(goalie), seed=seed),
@@ -51,8 +57,6 @@ def in_process_drift(goalie: bool, seed: int, seconds: float = 60.0) -> dict:
 
 
 def in_namespace(scenario: str, seconds: float) -> dict:
-    from nubot_comm import netns
-
     with tempfile.TemporaryDirectory(prefix="bench_hw_") as folder, netns.NetNamespace(f"bench{scenario}") as ns:
         out = Path(folder) / f"{scenario}.json"
         subprocess.run(ns.command(sys.executable, "-m", "nubot_tools.ros.real_robot_run", "--scenario", scenario,
@@ -67,7 +71,6 @@ def main() -> int:
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--seconds", type=float, default=60.0)
     args = ap.parse_args()
-    from nubot_comm import netns
 
     report: dict = {"in_process": [in_process_drift(g, s) for g in (False, True) for s in range(args.seeds)]}
     for layout in ("regular", "goalie"):

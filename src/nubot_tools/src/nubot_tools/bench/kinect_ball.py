@@ -39,11 +39,14 @@ import math
 import os
 import time
 from dataclasses import dataclass, field
+from importlib.metadata import version
 from pathlib import Path
 from typing import Any
 
 import genpy
+import matplotlib.pyplot as plt
 import numpy as np
+from sensor_msgs.msg import PointCloud2, PointField
 
 from kinect_ball.detection import fit_sphere
 from kinect_ball.pipeline import KinectBall, KinectBallParams
@@ -106,8 +109,6 @@ def camera_frame_centre(centre_world: np.ndarray, goalie: Pose2D, mount: Any) ->
 
 def fly_lob(k: int, seed: int, world: Any, params: KinectBallParams, keep_sets: bool) -> LobRecord:
     """One seeded lob at the goalie; its frames through kinect_ball."""
-    from sensor_msgs.msg import PointCloud2, PointField
-
     rng = np.random.default_rng([seed, k])
     f = world.field
     goalie = Pose2D(-f.half_length + rng.uniform(0.4, 0.8), rng.uniform(-0.4, 0.4), 0.0)
@@ -222,7 +223,6 @@ def sphere_fit_comparison(records: list[LobRecord], params: KinectBallParams, ra
     except ImportError:
         out["pyransac3d"] = "not installed (pip install pyransac3d to compare)"
         return out
-    from importlib.metadata import version
 
     for iterations in (det.iterations, 1000):
         times, errors = [], []
@@ -238,11 +238,6 @@ def sphere_fit_comparison(records: list[LobRecord], params: KinectBallParams, ra
 
 
 def plot(results: dict[str, Any], records: list[LobRecord], path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.5))
     curve = results["touchdown"]["curve"]
     tau = [c["tau_s"] for c in curve]

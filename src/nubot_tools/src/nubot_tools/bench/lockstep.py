@@ -48,6 +48,7 @@ import resource
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from collections.abc import Sequence
 from contextlib import redirect_stderr, redirect_stdout
@@ -55,11 +56,22 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
+import gymnasium
+import matplotlib.pyplot as plt
+import ode
+import psutil
+
+import nubot_match.envs  # noqa: F401 - registers NuBot/ScoreAgainstGoalie-v0
+from nubot_match import evaluate
+from nubot_match.bag import BagRecorder
 from nubot_match.config import match_config
 from nubot_match.engine import LockstepMatch
+from nubot_match.evaluate import jobs_for, play_match
 from nubot_match.record import MatchListener
 from nubot_tools.bench.harness import Clock, cpu_pressure, machine, pinned, timed
 from nubot_tools.workspace import BENCH_RESULTS, TEAMS
+from sim_visual.params import RobotSpawn, SimConfig
+from sim_visual.simulator import Simulator
 
 PARTS = ("lockstep", "recording", "physics", "env", "memory", "evaluate")
 TRACKERS = ("mpc", "baseline")
@@ -173,8 +185,6 @@ def bench_lockstep(d: Durations, cpu: int | None) -> dict:
 
 
 def bench_recording(d: Durations, cpu: int | None, unrecorded: dict | None) -> dict:
-    from nubot_match.bag import BagRecorder
-
     out: dict[str, Any] = {"tracker": "mpc"}
     with tempfile.TemporaryDirectory(prefix="bench_lockstep_bag_") as folder:
         for robots in (False, True):
@@ -223,9 +233,6 @@ def robot_contacts(positions: Sequence[tuple[float, float]], distance: float) ->
 
 
 def bench_simulator(steps: int, cpu: int | None, ring: float) -> dict:
-    from sim_visual.params import RobotSpawn, SimConfig
-    from sim_visual.simulator import Simulator
-
     spawns = tuple(RobotSpawn(name, x, y, yaw, attack) for name, x, y, yaw, attack in start_poses())
     sim = Simulator(SimConfig(robots=spawns, ball_start=(0.0, 0.0)))
     names = list(sim.plugins)
@@ -261,8 +268,6 @@ def bench_simulator(steps: int, cpu: int | None, ring: float) -> dict:
 def bench_pyode(steps: int, cpu: int | None, ring: float) -> dict:
     """pyode alone, robots gliding above the ground (no gravity, no robot-ground contact) and kept upright in
     their plane (``Plane2DJoint``) as ``PhysicsWorld`` keeps them."""
-    import ode
-
     world = ode.World()
     world.setGravity((0.0, 0.0, -9.81))
     world.setERP(0.2)
@@ -332,10 +337,6 @@ def bench_pyode(steps: int, cpu: int | None, ring: float) -> dict:
 
 # --- 3: the environment ----------------------------------------------------------------------------------------
 def bench_env(steps: int, cpu: int | None) -> dict:
-    import gymnasium
-
-    import nubot_match.envs  # noqa: F401 - registers NuBot/ScoreAgainstGoalie-v0
-
     made = time.perf_counter()
     env = gymnasium.make("NuBot/ScoreAgainstGoalie-v0")
     made = time.perf_counter() - made
@@ -363,18 +364,12 @@ def bench_env(steps: int, cpu: int | None) -> dict:
 
 # --- 4: memory ------------------------------------------------------------------------------------------------
 def _rss_mib() -> float:
-    import psutil
-
     return psutil.Process().memory_info().rss / 2**20
 
 
 def match_process_figures(half_seconds: float, halves: int) -> None:
     """In a fresh process: print as JSON the peak RSS after the imports and after playing one match (and its report),
     and the RSS every 5 s of wall time while it played, to show whether it grows with the match."""
-    import threading
-
-    from nubot_match.evaluate import jobs_for, play_match
-
     imports_kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     samples: list[tuple[float, float]] = []
     done = threading.Event()
@@ -413,8 +408,6 @@ def bench_memory(d: Durations, cpu: int | None) -> dict:
 
 # --- 5: make evaluate scaling ------------------------------------------------------------------------------------
 def bench_evaluate(d: Durations) -> dict:
-    from nubot_match import evaluate
-
     runs: dict[str, Any] = {}
     with tempfile.TemporaryDirectory(prefix="bench_lockstep_eval_") as folder:
         for jobs in (1, 2):
@@ -471,11 +464,6 @@ def scenarios(results: dict) -> list[tuple[str, float]]:
 
 
 def plot(results: dict, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     rows = scenarios(results)
     fig, ax = plt.subplots(figsize=(max(6.0, 1.3 * len(rows) + 2), 4.5))
     colours = ["tab:green" if v >= TARGET_REAL_TIME_FACTOR else "tab:blue" for _, v in rows]

@@ -22,7 +22,9 @@ import threading
 import time
 from pathlib import Path
 
+import matplotlib.pyplot as plt
 import numpy as np
+import psutil
 
 from nubot_comm import netns
 from nubot_comm.codec import DEFAULT_URL
@@ -82,8 +84,6 @@ def measure_latency(ns: netns.NetNamespace, loss: int, seconds: float, rate: flo
 
 def measure_node_cpu(ns: netns.NetNamespace, seconds: float, logs: Path) -> dict:
     """One team_link node (nubot1) at work for ``seconds``: CPU [cores] and RSS [MiB]."""
-    import psutil
-
     with netns.entered(ns.name), RosMaster(logs) as master:  # roscore and its clients inherit the namespace
         node = master.launch("team_link", ["rosrun", "nubot_comm", "team_link", "__name:=team_link", "__ns:=nubot1",
                                            "_robot:=nubot1"])
@@ -131,11 +131,6 @@ def measure_node_cpu(ns: netns.NetNamespace, seconds: float, logs: Path) -> dict
 
 
 def plot(rows: list[dict], path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, ax = plt.subplots(figsize=(6, 3.5))
     for row in rows:
         values = np.array(row["latencies_ms"])

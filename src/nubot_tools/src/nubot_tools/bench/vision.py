@@ -53,6 +53,7 @@ from pathlib import Path
 from typing import Any
 
 import cv2
+import matplotlib.pyplot as plt
 import numpy as np
 
 from nubot_common.field import FieldGeometry
@@ -611,15 +612,6 @@ def bench_fig11(rig: VisionRig, rng: np.random.Generator, d: Durations) -> tuple
 
 
 # --- the plots, the summary, main ------------------------------------------------------------------------------
-def _pyplot() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def draw_traces(ax: Any, frames: Sequence[FrameRecord], field: FieldGeometry, title: str) -> None:
     """The field's white markings (thin grey), the true trace and the estimated one (localized frames) on ``ax``."""
     for (x0, y0), (x1, y1) in field.line_segments():
@@ -640,7 +632,6 @@ def draw_traces(ax: Any, frames: Sequence[FrameRecord], field: FieldGeometry, ti
 
 def plot_localization(eight: Sequence[FrameRecord], fig11: Sequence[FrameRecord], field: FieldGeometry,
                       path: Path) -> None:
-    plt = _pyplot()
     fig = plt.figure(figsize=(12, 8))
     ax = fig.add_subplot(2, 1, 1)
     times = [f.t - eight[0].t for f in eight]
@@ -666,7 +657,6 @@ def plot_localization(eight: Sequence[FrameRecord], fig11: Sequence[FrameRecord]
 
 
 def plot_ball(ball: dict[str, Any], path: Path) -> None:
-    plt = _pyplot()
     fig, (ax, rate) = plt.subplots(1, 2, figsize=(12, 4.5))
     for hidden, colour, label in ((None, "tab:blue", "visible"), ("robot", "tab:gray", "partly hidden by a robot"),
                                   ("strut", "tab:purple", "behind a strut")):

@@ -19,7 +19,12 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import LineCollection
+from matplotlib.colors import LinearSegmentedColormap
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Arc, Circle, Rectangle
 
 from nubot_common.commands import KickKind
 from nubot_common.field import FieldGeometry
@@ -33,8 +38,6 @@ LIGHT_GRASS = "#dcedc8"
 
 def new_figure(field: FieldGeometry) -> tuple[Figure, Axes]:
     """Return an Agg figure whose axes span the field and its border, to scale (world frame)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
     hl, hw, b = field.half_length, field.half_width, field.border
     fig = Figure(figsize=(10, 10 * (hw + b) / (hl + b) + 0.8))
     FigureCanvasAgg(fig)
@@ -49,9 +52,6 @@ def new_figure(field: FieldGeometry) -> tuple[Figure, Axes]:
 
 def draw_field(ax: Axes, field: FieldGeometry, colour: str = "white", zorder: int = 2) -> None:
     """Draw every white marking of ``field`` (lines, areas, centre circle, corner arcs, spots) and both goals."""
-    from matplotlib.collections import LineCollection
-    from matplotlib.patches import Arc, Circle, Rectangle
-
     ax.add_collection(LineCollection(field.line_segments(), colors=colour, linewidths=1.5, zorder=zorder))
     for arc in field.arcs():
         ax.add_patch(Arc((arc.x, arc.y), 2 * arc.radius, 2 * arc.radius, theta1=math.degrees(arc.start),
@@ -97,8 +97,6 @@ def plot_trajectories(tracks: dict[str, Track], teams: Sequence[str], field: Fie
                       teleport_step: float = 1.0, max_points: int = 4000,
                       title: str = "Robot trajectories") -> Figure:
     """Write a PNG of every robot's path: one colour family per team, each robot labelled at its last position."""
-    from matplotlib.colors import LinearSegmentedColormap
-
     fig, ax = new_figure(field)
     ax.set_facecolor(LIGHT_GRASS)
     draw_field(ax, field, colour="0.4", zorder=1)
@@ -138,9 +136,6 @@ def plot_shot_map(shots: Sequence[Shot], teams: Sequence[str], field: FieldGeome
     """Write a PNG with one panel per team: the attacked half (the team attacking to the right whatever its end),
     each shot at the point it was kicked, marked by its outcome (a lob with a hollow marker), each goal with a line to
     where it crossed the goal line."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.lines import Line2D
-
     hl, hw, b = field.half_length, field.half_width, field.border
     panels = list(teams) or ["(no team)"]
     fig = Figure(figsize=(5.5 * len(panels), 5.5 * (hw + b) / (hl / 2 + b) * 0.5 + 1.5))

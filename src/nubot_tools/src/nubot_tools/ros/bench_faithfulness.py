@@ -43,6 +43,14 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import matplotlib.pyplot as plt
+
+from nubot_match.config import match_config
+from nubot_match.engine import LockstepMatch
+from nubot_match.match_analysis import FOUL_KINDS, analyse
+from nubot_match.match_shots import explain
+from nubot_match.record import MatchLogRecorder
+from nubot_match.statistics import Interval, mean_interval, rate_interval
 from nubot_tools.workspace import BENCH_RESULTS
 
 if TYPE_CHECKING:
@@ -66,8 +74,6 @@ QUICK_SEEDS, QUICK_HALF_SECONDS = 2, 10.0
 def figures(report: dict, home: str = HOME_TEAM) -> dict[str, float]:
     """The compared metrics of one match from its report (``MatchSummary.to_json()`` with the ``ShotReport`` under
     "shot_report", or a match_report's report.json)."""
-    from nubot_match.match_analysis import FOUL_KINDS
-
     minutes = report["running_time_s"] / 60.0
 
     def per_minute(n: float) -> float:
@@ -90,12 +96,6 @@ def figures(report: dict, home: str = HOME_TEAM) -> dict[str, float]:
 
 
 def play_lockstep(seed: int, half_seconds: float) -> dict:
-    from nubot_match.config import match_config
-    from nubot_match.engine import LockstepMatch
-    from nubot_match.match_analysis import analyse
-    from nubot_match.match_shots import explain
-    from nubot_match.record import MatchLogRecorder
-
     config = match_config(half_seconds=half_seconds, halves=2, seed=seed)
     recorder = MatchLogRecorder()
     match = LockstepMatch(config, [recorder])
@@ -161,8 +161,6 @@ def compare(lockstep: list[dict], ros: list[dict]) -> dict:
 def interval(matches: list[dict], metric: str) -> Interval:
     """The mean of ``metric`` over ``matches`` with its 95 % interval: Student t over the matches; a figure per
     minute takes in the exact Poisson interval of the matches' pooled count as well (the wider bounds of the two)."""
-    from nubot_match.statistics import Interval, mean_interval, rate_interval
-
     t = mean_interval([m[metric] for m in matches])
     count = RATES.get(metric)
     minutes = sum(m["running_time_s"] for m in matches) / 60.0
@@ -175,11 +173,6 @@ def interval(matches: list[dict], metric: str) -> Interval:
 
 
 def plot(comparison: dict, path: Path, title: str) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, axes = plt.subplots(1, len(comparison), figsize=(3.2 * len(comparison), 3.8))
     for ax, row in zip(axes, comparison.values()):
         for x, kind, colour in ((0, "lockstep", "tab:blue"), (1, "ros", "tab:orange")):

@@ -19,6 +19,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import rosbag
+
 from nubot_tools.workspace import BENCH_RESULTS
 
 PLAY = ("goals", "passes_completed", "passes_tried", "shots", "running_share", "collisions_per_minute",
@@ -57,8 +59,6 @@ def play_match(tracker: str, seed: int, half_seconds: float, out: Path, extra: t
 def message_traffic(bag_path: Path, subscribers: dict[str, int]) -> dict:
     """Messages per second (from the bag's index) and deliveries per second (each message times the nodes that
     subscribe to its topic, the recorder included), the ten largest streams with robot and team names folded."""
-    import rosbag
-
     with rosbag.Bag(str(bag_path)) as bag:
         seconds = max(bag.get_end_time() - bag.get_start_time(), 1e-9)
         counts = {topic: info.message_count for topic, info in bag.get_type_and_topic_info().topics.items()}

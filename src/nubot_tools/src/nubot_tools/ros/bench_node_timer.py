@@ -24,6 +24,12 @@ import threading
 import time
 from pathlib import Path
 
+import matplotlib.pyplot as plt
+import psutil
+import rospy
+from rosgraph_msgs.msg import Clock
+
+from nubot_common.node_io import publisher
 from nubot_common.processes import RosMaster, wait_until
 from nubot_tools.workspace import BENCH_RESULTS
 
@@ -46,8 +52,6 @@ rospy.spin()
 
 def measure(master: RosMaster, kind: str, nodes: int, seconds: float) -> float:
     """CPU [core-seconds] the ``nodes`` nodes of ``kind`` took over ``seconds`` of wall time."""
-    import psutil
-
     launched = [master.launch(f"{kind.replace(' ', '_')}_{i}", [sys.executable, "-c", NODE, kind, str(CYCLE_HZ)])
                 for i in range(nodes)]
     try:
@@ -66,11 +70,6 @@ def measure(master: RosMaster, kind: str, nodes: int, seconds: float) -> float:
 
 
 def run(nodes: int, seconds: float, repeats: int, clock_rate: float) -> dict:
-    import rospy
-    from rosgraph_msgs.msg import Clock
-
-    from nubot_common.node_io import publisher
-
     with tempfile.TemporaryDirectory() as logs, RosMaster(Path(logs)) as master:
         master.use_in_this_process()
         rospy.init_node("bench_node_timer", disable_signals=True)
@@ -114,11 +113,6 @@ def run(nodes: int, seconds: float, repeats: int, clock_rate: float) -> dict:
 
 
 def plot(result: dict, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, ax = plt.subplots(figsize=(6, 3.5))
     for i, kind in enumerate(KINDS):
         shares = result["kinds"][kind]["percent_core_per_node"]

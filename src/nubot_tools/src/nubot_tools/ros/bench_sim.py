@@ -21,12 +21,16 @@ import time
 from pathlib import Path
 
 import psutil
+import rospy
 import yaml
+from rosgraph_msgs.msg import Clock
 
+from nubot_common.msg import VelCmd
 from nubot_common.processes import RosMaster
 from nubot_tools.workspace import BENCH_RESULTS
 from sim_visual.params import RobotSpawn, SimConfig
 from sim_visual.simulator import Simulator
+from sim_visual.world import BallState
 
 
 def spawns(count: int) -> list[RobotSpawn]:
@@ -45,7 +49,6 @@ def circle_command(i: int, t: float) -> tuple[float, float, float]:
 
 def bench_core(count: int, sim_seconds: float) -> dict:
     sim = Simulator(SimConfig(robots=tuple(spawns(count)), ball_start=(0.0, 0.0)))
-    from sim_visual.world import BallState
 
     sim.world.set_ball_state(BallState(0.0, 0.0, 0.11, 3.0, 1.0, 0.0))
     next_cmd, next_vision = 0.0, 0.0
@@ -67,9 +70,6 @@ def bench_core(count: int, sim_seconds: float) -> dict:
 
 class ClockWatch:
     def __init__(self) -> None:
-        import rospy
-        from rosgraph_msgs.msg import Clock
-
         self.clock = 0.0
         rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1)
 
@@ -79,10 +79,6 @@ class ClockWatch:
 
 def drive(robots: list[RobotSpawn], stop: threading.Event) -> None:
     """Publish body-velocity commands to every robot at 33 Hz (wall time), as control nodes would."""
-    import rospy
-
-    from nubot_common.msg import VelCmd
-
     pubs = [rospy.Publisher(f"/{r.name}/nubotcontrol/velcmd", VelCmd, queue_size=1) for r in robots]
     t0 = time.monotonic()
     while not stop.is_set():
@@ -153,7 +149,6 @@ def main(argv: list[str] | None = None) -> int:
         results["core"].append(bench_core(count, 20.0))
     with RosMaster(args.out / "logs") as master:
         master.use_in_this_process()
-        import rospy
 
         rospy.init_node("bench_sim", disable_signals=True)
         for count, rtf in ((1, 0.0), (10, 0.0), (1, 1.0), (10, 1.0)):

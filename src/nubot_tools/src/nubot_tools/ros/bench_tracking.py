@@ -24,9 +24,12 @@ import threading
 import time
 from pathlib import Path
 
+import matplotlib.pyplot as plt
 import numpy as np
+import rospy
 
 from nubot_common.geometry import Pose2D, rotate
+from nubot_common.msg import ModelStates, TrackingInfo
 from nubot_common.processes import RosMaster, wait_until
 from nubot_common.world_description import WorldDescription
 from nubot_control.motion import MotionController
@@ -65,10 +68,6 @@ def cycle_cost(tracker: str, cycles: int, seed: int = 0) -> dict:
 # --- 1: the Fig. 13 experiment -----------------------------------------------------------------------
 class Recorder:
     def __init__(self):
-        import rospy
-
-        from nubot_common.msg import ModelStates, TrackingInfo
-
         self.lock = threading.Lock()
         self.truth: list[tuple[float, float, float, float, float]] = []  # t, x, y, vx, vy
         self.obstacles: dict[str, tuple[float, float]] = {}
@@ -77,8 +76,6 @@ class Recorder:
                      rospy.Subscriber("/nubot1/nubotcontrol/tracking", TrackingInfo, self._tracking, queue_size=50)]
 
     def _states(self, msg) -> None:
-        import rospy
-
         t = rospy.get_time()
         with self.lock:
             for name, pose, twist in zip(msg.name, msg.pose, msg.twist):
@@ -169,11 +166,6 @@ def analyse(run: dict, path: np.ndarray, tracker: str) -> dict:
 
 
 def plot(results: dict, speed: float, path: np.ndarray, out: Path) -> list[Path]:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     colours = {"mpc": "tab:blue", "baseline": "tab:orange"}
     files = []
     fig, ax = plt.subplots(figsize=(8, 5.5))
@@ -208,8 +200,6 @@ def plot(results: dict, speed: float, path: np.ndarray, out: Path) -> list[Path]
 
 
 def _save(fig, ax, labels: tuple[str, str], title: str, path: Path, legend: str = "best") -> Path:
-    import matplotlib.pyplot as plt
-
     ax.set_xlabel(labels[0])
     ax.set_ylabel(labels[1])
     ax.set_title(title)
@@ -237,8 +227,6 @@ def main(argv: list[str] | None = None) -> int:
         print(f"        median {cost['median_ms']} ms, p95 {cost['p95_ms']} ms, max {cost['max_ms']} ms", flush=True)
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, set(range(os.cpu_count() or 1)))
-
-    import rospy
 
     with RosMaster(args.out / "logs") as master:
         master.use_in_this_process()

@@ -37,6 +37,11 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
+import matplotlib.pyplot as plt
+import psutil
+from PIL import Image
+
+from nubot_tools.browser import Page
 from nubot_tools.workspace import BENCH_RESULTS
 
 VIEWER_RATE_HZ = 25.0  # the viewer node's ~rate default, which run_match.py keeps
@@ -128,8 +133,6 @@ def page_cost(without: dict[str, Any], with_page: dict[str, Any]) -> dict[str, A
 
 def shrink_png(path: Path, limit_bytes: int) -> int:
     """Make a PNG at most ``limit_bytes`` if it can be: quantise it to ever fewer colours; return its size."""
-    from PIL import Image
-
     size = path.stat().st_size
     if size <= limit_bytes:
         return size
@@ -144,11 +147,6 @@ def shrink_png(path: Path, limit_bytes: int) -> int:
 
 
 def plot(result: dict[str, Any], path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     runs = result["matches"]
     labels = ["no page", "page open"]
     fig, (ax_rtf, ax_cpu) = plt.subplots(1, 2, figsize=(8, 3.2), gridspec_kw={"width_ratios": [1, 2]})
@@ -220,8 +218,6 @@ class ChromiumMeter:
     """CPU [cores] of every process under chromedriver (Chromium's browser, renderer, GPU and utility processes)."""
 
     def __init__(self, driver_pid: int):
-        import psutil
-
         self._psutil = psutil
         self.root = psutil.Process(driver_pid)
         self._known: dict[int, Any] = {}  # psutil measures CPU between two calls on the same Process object
@@ -246,8 +242,6 @@ class RunnerWatch:
     PERIOD = 5.0  # [s, wall] between looks at the whole process table
 
     def __init__(self, runner_pid: int):
-        import psutil
-
         self._psutil = psutil
         self.runner_pid = runner_pid
         self.started: dict[int, Any] = {}
@@ -276,8 +270,6 @@ class RunnerWatch:
 def stop_group(process: subprocess.Popen, started: dict[int, Any]) -> None:
     """End the runner and everything it started: Ctrl-C to its group (it closes its bag and master), then SIGKILL;
     then any process it started (each launch is a session of its own) that outlived it, by its pid."""
-    import psutil
-
     if process.poll() is None:
         with contextlib.suppress(ProcessLookupError):
             os.killpg(process.pid, signal.SIGINT)
@@ -338,8 +330,6 @@ def play(label: str, args: argparse.Namespace, with_page: bool) -> dict[str, Any
 
 def watch(url: str, output: RunnerOutput, args: argparse.Namespace, runner: RunnerWatch) -> dict[str, Any]:
     """Keep a page open on ``url`` until the runner's full time; sample the page's counters and Chromium's CPU."""
-    from nubot_tools.browser import Page
-
     game_seconds = args.half_seconds * args.halves
     with Page(url, width=args.width, height=args.height) as page:
         meter = ChromiumMeter(page.driver.service.process.pid)

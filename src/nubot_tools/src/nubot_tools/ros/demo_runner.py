@@ -17,6 +17,12 @@ import time
 from datetime import datetime
 from pathlib import Path
 
+import matplotlib.pyplot as plt
+import rospy
+from rosgraph_msgs.msg import Clock
+from std_msgs.msg import String
+
+from nubot_common.msg import GoalEvent, ModelStates
 from nubot_common.processes import RosMaster
 from nubot_tools.progress import SimProgress
 from nubot_tools.workspace import MATCHES
@@ -24,12 +30,6 @@ from nubot_tools.workspace import MATCHES
 
 class DemoWatcher:
     def __init__(self) -> None:
-        import rospy
-        from rosgraph_msgs.msg import Clock
-        from std_msgs.msg import String
-
-        from nubot_common.msg import GoalEvent, ModelStates
-
         self.lock = threading.Lock()
         self.clock = 0.0
         self.states: list[tuple[float, str]] = []
@@ -73,11 +73,6 @@ class DemoWatcher:
 
 
 def plot(watcher: DemoWatcher, out: Path, field_length: float, field_width: float) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, ax = plt.subplots(figsize=(9, 6))
     hl, hw = field_length / 2, field_width / 2
     ax.add_patch(plt.Rectangle((-hl, -hw), field_length, field_width, fill=True, color="#2e7d32", alpha=0.3))
@@ -112,7 +107,6 @@ def main(argv: list[str] | None = None) -> int:
     print(f"single-robot demo: up to {args.sim_seconds:.0f} s of sim time, logs in {out}", flush=True)
     with RosMaster(out / "logs") as master:
         master.use_in_this_process()
-        import rospy
 
         rospy.init_node("demo_watcher", disable_signals=True)
         watcher = DemoWatcher()

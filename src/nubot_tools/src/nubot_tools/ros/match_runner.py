@@ -25,9 +25,23 @@ import time
 from datetime import datetime
 from pathlib import Path
 
+import psutil
+import rosbag
+import rosgraph
+import rospy
+from rosgraph_msgs.msg import Clock
+
+from nubot_common import NubotCommonError
+from nubot_common.msg import GameState
+from nubot_common.naming import RobotSelection
+from nubot_common.node_io import wait_for_robots
+from nubot_common.params import load_yaml
 from nubot_common.processes import Launched, RosMaster, process_table
+from nubot_common.world_description import load_world, world_file
+from nubot_control.team_config import TeamConfig
 from nubot_tools.node_watch import NodeEvent, NodeWatch
 from nubot_tools.progress import SimProgress
+from nubot_tools.report import match_report
 from nubot_tools.resources import ResourceLog
 from nubot_tools.workspace import MATCHES, TEAMS
 
@@ -36,11 +50,6 @@ class GameWatcher:
     """Follows /referee/state and /clock."""
 
     def __init__(self) -> None:
-        import rospy
-        from rosgraph_msgs.msg import Clock
-
-        from nubot_common.msg import GameState
-
         self.clock = 0.0
         self.state = None
         self.events: list[tuple[float, str]] = []
@@ -85,8 +94,6 @@ class PerfMonitor:
         """Each robot's control cycles while measuring: its StrategyInfo messages (one a cycle) in the match's bag,
         by their sim time; counted from the bag, not by subscribing, so that measuring adds no messages to a match
         whose cost is mostly rospy's per message."""
-        import rosbag
-
         assert self.start is not None and self.end is not None
         topics = {f"/{r}/nubotcontrol/strategy": r for r in self.robots}
         counts = dict.fromkeys(self.robots, 0)
@@ -97,8 +104,6 @@ class PerfMonitor:
         return counts
 
     def _processes(self):
-        import psutil
-
         procs = []
         for launched in self.launched:
             try:
@@ -164,8 +169,6 @@ class PerfMonitor:
 
 def subscriber_counts() -> dict[str, int]:
     """How many nodes subscribe to each topic (the master's system state): each message costs every one of them."""
-    import rosgraph
-
     _publishers, subscribers, _services = rosgraph.Master("/match_runner").getSystemState()
     return {topic: len(nodes) for topic, nodes in subscribers}
 
@@ -259,8 +262,6 @@ def _clock(seconds: float) -> str:
 def wait_for_simulator(sim: Launched, timeout: float) -> str | None:
     """None once the simulator offers its spawn service; else why not: its launch ended (the end of its log
     says how), or ``timeout`` [s] passed."""
-    import rospy
-
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         if not sim.alive():
@@ -278,8 +279,6 @@ def wait_for_simulator(sim: Launched, timeout: float) -> str | None:
 
 def start_viewer(master: RosMaster, port: int, timeout: float = 20.0) -> Launched:
     """Start the live page (``coach4sim viewer``) and print its address; a match goes on without it."""
-    import rospy
-
     viewer = master.launch("viewer", ["rosrun", "coach4sim", "viewer", f"_port:={port}", "__name:=viewer"])
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline and viewer.alive():
@@ -335,12 +334,6 @@ def play(argv: list[str] | None) -> int:
     if len(teams) != 2:
         parser.error("give --team exactly twice")
 
-    from nubot_common import NubotCommonError
-    from nubot_common.naming import RobotSelection
-    from nubot_common.params import load_yaml
-    from nubot_common.world_description import load_world, world_file
-    from nubot_control.team_config import TeamConfig
-
     try:
         world_path = world_file(args.field)
         world = load_world(world_path)
@@ -359,7 +352,6 @@ def play(argv: list[str] | None) -> int:
     perf: PerfMonitor | None = None
     with RosMaster(out / "logs") as master:
         master.use_in_this_process()
-        import rospy
 
         print(f"  ROS master {master.uri} (ROS_MASTER_URI for rostopic, rosbag or the coach)", flush=True)
         rospy.init_node("match_runner", disable_signals=True)
@@ -386,7 +378,6 @@ def play(argv: list[str] | None) -> int:
             master.launch(f"team_{config.prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
                                                     str(team_file), *team_args])
         names = [n for c in configs for n in c.robot_names()]
-        from nubot_common.node_io import wait_for_robots  # rospy: imported once a match starts
 
         silent = wait_for_robots(names, timeout=180, stop=lambda: run.check(simulator=sim))
         if run.ended is None:
@@ -453,7 +444,6 @@ def play(argv: list[str] | None) -> int:
     status = 0 if run.ended is None else CUT_SHORT_STATUS
     if args.no_report or not bag.exists():
         return status
-    from nubot_tools.report import match_report
 
     return match_report.main([str(bag), "--out", str(out)]) or status
 

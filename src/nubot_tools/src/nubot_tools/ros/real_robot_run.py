@@ -32,17 +32,19 @@ import tempfile
 import time
 from pathlib import Path
 
+import rosgraph
+import rospy
+from std_msgs.msg import Bool
+
+from nubot_common.msg import CoachInfo, GoalEvent, HardwareStatus, ModelStates, OdoInfo, VelCmd
 from nubot_common.packages import package_path
 from nubot_common.processes import RosMaster
+from nubot_tools.bench.hwcontrol import figure_command
 from nubot_tools.resources import ResourceLog
 
 URL = "udpm://239.255.76.67:7667?ttl=0"
 ROBOT = 2
 UP_TO_SPEED = 2.5  # [s] of the figure before the odometry is compared: moving, a quarter figure into the left turn
-
-
-def figure_command(t: float) -> tuple[float, float, float]:
-    return 2.0, 0.0, 1.2 * (1.0 if math.sin(2.0 * math.pi * t / 10.0) >= 0.0 else -1.0)
 
 
 def main() -> int:
@@ -72,11 +74,6 @@ def main() -> int:
 def run(args: argparse.Namespace, result: dict, logs: Path) -> None:
     with RosMaster(logs) as master:
         master.use_in_this_process()
-        import rospy
-        from std_msgs.msg import Bool
-
-        from nubot_common.msg import CoachInfo, GoalEvent, HardwareStatus, ModelStates, OdoInfo, VelCmd
-
         if args.scenario == "loop":
             loop(master, args.seconds, result)
             return
@@ -162,8 +159,6 @@ def run(args: argparse.Namespace, result: dict, logs: Path) -> None:
 
 def drive_graph() -> dict[str, dict[str, list[str]]]:
     """Return the publishers and subscribers of the topics between the simulated drive and the simulator."""
-    import rosgraph
-
     publishers, subscribers, _services = rosgraph.Master("/real_robot_run").getSystemState()
     graph: dict[str, dict[str, list[str]]] = {}
     for kind, table in (("publishers", publishers), ("subscribers", subscribers)):
@@ -183,10 +178,6 @@ def loop_figures(statuses: list) -> dict:
 
 
 def loop(master: RosMaster, seconds: float, result: dict) -> None:
-    import rospy
-
-    from nubot_common.msg import HardwareStatus
-
     config = package_path("nubot_hwcontrol") / "config" / "nubot_hwcontrol.yaml"
     subprocess.run(["rosparam", "load", str(config), "/nubot_hwcontrol"], env=master.env, check=True)
     node = master.launch("hwcontrol", ["rosrun", "nubot_hwcontrol", "nubot_hwcontrol_node"])

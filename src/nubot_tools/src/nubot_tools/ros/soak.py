@@ -21,6 +21,8 @@ import json
 import sys
 from pathlib import Path
 
+from rosbags.rosbag1 import Reader
+
 from nubot_tools import resources
 from nubot_tools.ros import match_runner
 from nubot_tools.workspace import SOAK
@@ -30,8 +32,6 @@ RECORDER = "match_recorder"
 
 def _recorded_messages(out: Path) -> int:
     """Messages in the soak's bag (from its index: quick even for gigabytes)."""
-    from rosbags.rosbag1 import Reader
-
     bags = sorted(out.glob("match-*/match.bag"))
     if not bags:
         return 0

@@ -22,21 +22,20 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+import rospy
+from geometry_msgs.msg import Pose
+
 from nubot_common import NubotCommonError
 from nubot_common.geometry import yaw_to_quaternion
 from nubot_common.naming import RobotSelection
 from nubot_common.params import load_yaml
+from nubot_common.srv import DeleteModel, SpawnModel
 from nubot_common.world_description import WORLD_NAMESPACE, world_from_params
 from nubot_control.plugins import resolve_spec, strategy_class
 from nubot_control.team_config import TeamConfig, team_launch_xml
 
 
 def spawn_models(team: TeamConfig) -> None:
-    import rospy
-    from geometry_msgs.msg import Pose
-
-    from nubot_common.srv import SpawnModel
-
     rospy.wait_for_service("/sim_visual/spawn_model", timeout=60.0)
     spawn = rospy.ServiceProxy("/sim_visual/spawn_model", SpawnModel)
     for name, x, y, yaw in team.world_poses():
@@ -50,10 +49,6 @@ def spawn_models(team: TeamConfig) -> None:
 
 
 def delete_models(team: TeamConfig) -> None:
-    import rospy
-
-    from nubot_common.srv import DeleteModel
-
     try:
         delete = rospy.ServiceProxy("/sim_visual/delete_model", DeleteModel)
         for name in team.robot_names():
@@ -83,7 +78,6 @@ def main(argv: list[str] | None = None) -> int:
     except (OSError, NubotCommonError) as exc:
         print(f"spawn_team: {exc}", file=sys.stderr)
         return 2
-    import rospy
 
     # No rospy node: the spawner only reads a parameter and calls services, which need none, and a node would
     # take every /clock message of the match (each costs an idle rospy node about 0.2 ms of CPU).
