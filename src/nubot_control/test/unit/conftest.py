@@ -21,10 +21,10 @@ from nubot_common.team_play import StrategyReport
 from nubot_common.world_description import WorldDescription
 from nubot_control.agent import AgentStep, RobotAgent
 from nubot_control.params import ControlParams, PlayParams
+from sim_visual.host import SensorSchedule
 from sim_visual.params import NoiseParams, RobotSpawn, SimConfig, SimNodeParams
 from sim_visual.simulator import GoalScored, Simulator
 
-VISION_PERIOD = 1.0 / SimNodeParams().vision_rate  # [s] the simulator's percepts, as the node and the engine
 CONTROL_PERIOD = 1.0 / ControlParams().rate  # [s] the robots' control cycle
 
 
@@ -40,7 +40,7 @@ class InProcessMatch:
     steps: dict[str, AgentStep] = field(default_factory=dict)
     goals: list[GoalScored] = field(default_factory=list)
     _packets: dict[str, tuple[RobotView | None, StrategyReport]] = field(default_factory=dict)
-    _vision: Periodic = field(default_factory=lambda: Periodic(VISION_PERIOD))  # the engine's schedule
+    _sensors: SensorSchedule = field(default_factory=lambda: SensorSchedule(SimNodeParams()))  # the sim node's
     _control: Periodic = field(default_factory=lambda: Periodic(CONTROL_PERIOD))
 
     def team_of(self, name: str) -> str:
@@ -69,7 +69,7 @@ class InProcessMatch:
         end = self.sim.time + seconds
         while self.sim.time < end:
             t = self.sim.time
-            if self._vision.due(t):
+            if self._sensors.vision.due(t):
                 for name, agent in self.agents.items():
                     agent.on_vision(self.sim.observe(name))
             if self._control.due(t):
