@@ -4,8 +4,10 @@ clock plays, pauses, seeks and changes speed; bad bags and bad controls get clea
 import json
 
 import pytest
+from rosbags.rosbag1 import Reader, Writer
 
 from coach4sim.viewer_server import ViewerInputError
+from nubot_common.world_description import WorldDescription
 from nubot_match.bag import BagRecorder
 from nubot_match.bag_reader import MatchBagError
 from nubot_match.config import match_config
@@ -35,6 +37,21 @@ def test_a_lockstep_bag_becomes_frames_at_the_rate_with_the_referee_s_decisions_
     assert any("kickoff" in t for t in texts) and any("end of the match" in t for t in texts)
     assert timeline.at(timeline.start - 5.0) == timeline.frames[0] and timeline.at(1e9) == timeline.frames[-1]
     assert last["referee"]["half"] == 1 and not last["referee"]["running"]
+
+
+def test_a_bag_without_the_world_description_replays_on_the_default_field_with_a_warning(bag, tmp_path):
+    """An older bag or a partial recording: no /sim_visual/world_description (the reader must not be handed an empty
+    selection, which it takes for every topic)."""
+    partial = tmp_path / "partial.bag"
+    with Reader(bag) as source, Writer(partial) as out:
+        kept = {c.id: out.add_connection(c.topic, c.msgtype, msgdef=c.msgdef.data, md5sum=c.digest)
+                for c in source.connections if c.topic != "/sim_visual/world_description"}
+        for conn, stamp, raw in source.messages(connections=[c for c in source.connections if c.id in kept]):
+            out.write(kept[conn.id], stamp, raw)
+    timeline = load_timeline(partial)
+    assert timeline.world == WorldDescription() and len(timeline.frames) == len(load_timeline(bag).frames)
+    assert timeline.warnings == ["no world description in the bag (/sim_visual/world_description): drawing the "
+                                 "default 18 x 12 m field"]
 
 
 def test_the_replay_clock_plays_pauses_seeks_and_stops_at_the_end():

@@ -61,6 +61,7 @@ class Timeline:
     times: list[float] = field(default_factory=list)
     frames: list[str] = field(default_factory=list)
     marks: list[Mark] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)  # what the replay had to make do without
 
     @property
     def start(self) -> float:
@@ -81,6 +82,20 @@ def _wanted(topic: str) -> bool:
     return topic in (STATES, REFEREE, GOAL, WORLD) or bool(TEAMMATES.match(topic) or PER_ROBOT.match(topic))
 
 
+def _world(reader: Reader, typestore: Any, conns: list[Any]) -> tuple[WorldDescription, list[str]]:
+    """The bag's world description, or the default field with a warning: a bag without one (an older bag, a partial
+    recording) or with a bad one replays on the chapter's 18 x 12 m field."""
+    default = WorldDescription()
+    if not conns:  # (an empty selection would make the reader give every message)
+        return default, [f"no world description in the bag ({WORLD}): drawing the default {default.name} field"]
+    for conn, _, raw in reader.messages(connections=conns):
+        try:
+            return world_from_msg(typestore.deserialize_ros1(raw, conn.msgtype)), []
+        except ValueError as exc:
+            return default, [f"ignored {WORLD}: {exc}; drawing the default {default.name} field"]
+    return default, [f"no world description in the bag ({WORLD}): drawing the default {default.name} field"]
+
+
 def load_timeline(bag: Path, rate: float = 20.0,
                   progress: Callable[[float], None] | None = None) -> Timeline:
     """Read ``bag`` into a ``Timeline`` of ``rate`` frames per second of sim time; ``progress(share)`` now and
@@ -94,11 +109,8 @@ def load_timeline(bag: Path, rate: float = 20.0,
                 found = ", ".join(sorted({c.topic for c in reader.connections})) or "no topics at all"
                 raise MatchBagError(f"{bag} has no {STATES}: nothing to draw; it has: {found}")
             typestore = build_typestore(conns)
-            world = WorldDescription()
-            for conn, _, raw in reader.messages(connections=[c for c in conns if c.topic == WORLD]):
-                world = world_from_msg(typestore.deserialize_ros1(raw, conn.msgtype))
-                break
-            timeline = Timeline(world)
+            world, warnings = _world(reader, typestore, [c for c in conns if c.topic == WORLD])
+            timeline = Timeline(world, warnings=warnings)
             scene = Scene(world)
             total = max(1, sum(c.msgcount for c in conns))
             step, due, last_event = 1.0 / rate, -math.inf, ""
@@ -241,6 +253,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"replay: reading {args.bag}", flush=True)
         timeline = load_timeline(args.bag, args.rate,
                                  lambda share: print(f"replay: {100 * share:.0f} % read", flush=True))
+        for warning in timeline.warnings:
+            print(f"replay: warning: {warning}", file=sys.stderr)
         backend = ReplayBackend(timeline, args.bag.name)
         backend.clock.set_speed(args.speed)
         server = ViewerServer(backend, args.host, args.port, args.token, rate=25.0)
