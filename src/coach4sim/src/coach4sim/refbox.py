@@ -49,6 +49,7 @@ from nubot_common import NubotCommonError
 from nubot_common.match_mode import MatchMode
 from nubot_common.naming import check_team_prefix
 from nubot_common.params import require_positive
+from nubot_common.untrusted import UntrustedInputError, json_object
 
 DEFAULT_PORT = 28097  # the box's base-station port
 MAX_MESSAGE = 100_000  # the box drops a message longer than this without its zero byte [bytes]
@@ -132,20 +133,11 @@ class FrameDecoder:
         if not raw.strip():
             return None  # a lone zero byte (keep-alive, or two in a row) carries nothing
         try:
-            message = json.loads(raw.decode("utf-8"))
-        except UnicodeDecodeError as exc:
-            return self._error(f"message is not UTF-8 ({exc.reason} at byte {exc.start})", len(raw))
-        except json.JSONDecodeError as exc:
-            return self._error(f"malformed JSON ({exc.msg} at character {exc.pos}): {_excerpt(raw)}", len(raw))
-        if not isinstance(message, dict):
-            return self._error(f"JSON {type(message).__name__}, not an object: {_excerpt(raw)}", len(raw))
+            message = json_object(raw)
+        except UntrustedInputError as exc:
+            return self._error(str(exc), len(raw))
         self.messages += 1
         return Frame(message, "", len(raw))
-
-
-def _excerpt(raw: bytes, limit: int = 80) -> str:
-    text = raw[:limit].decode("utf-8", errors="replace")
-    return repr(text + ("..." if len(raw) > limit else ""))
 
 
 # --- commands ----------------------------------------------------------------------------------------------

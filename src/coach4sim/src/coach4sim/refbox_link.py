@@ -137,6 +137,8 @@ class RefboxLink:
                 reason = self.serve(sock)
             except (OSError, BoxGone) as exc:
                 reason = str(exc) or type(exc).__name__
+            except Exception as exc:  # noqa: BLE001 - whatever a peer makes of us, the link reconnects, never dies
+                reason = f"the link failed ({type(exc).__name__}: {exc}); reconnecting"
             finally:
                 with self.lock:
                     self.sock = None

@@ -33,6 +33,7 @@ from coach4sim.refbox import (
 )
 
 Logger = Callable[[str], None]
+KEPT_ERRORS = 100  # rejections kept in words (the count goes on: ``rejected``)
 
 
 @dataclass
@@ -79,7 +80,8 @@ class RefboxServer:
         self.log: Logger = log or (lambda text: None)
         self.lock = threading.Lock()
         self.connections: list[Connection] = []
-        self.errors: list[str] = []  # every rejection, in words (also logged)
+        self.errors: list[str] = []  # the latest KEPT_ERRORS rejections, in words (each also logged)
+        self.rejected = 0  # rejections in all
         self._listener: socket.socket | None = None
         self._threads: list[threading.Thread] = []
         self._closing = threading.Event()
@@ -240,7 +242,9 @@ class RefboxServer:
     def _reject(self, conn: Connection, text: str) -> None:
         line = f"base station #{conn.number}: {text}"
         with self.lock:
+            self.rejected += 1
             self.errors.append(line)
+            del self.errors[:-KEPT_ERRORS]  # a peer sending rejects for hours must not fill the memory
         self.log(line)
 
     def _closed(self, conn: Connection, reason: str) -> None:

@@ -36,6 +36,7 @@ import tornado.websocket
 from coach4sim import CoachError
 from nubot_common import NubotCommonError
 from nubot_common.match_mode import MatchMode, parse_match_mode
+from nubot_common.untrusted import UntrustedInputError, json_object
 
 ASSETS = Path(__file__).resolve().parent / "viewer_assets"
 MAX_MESSAGE = 16 * 1024  # the largest message a page may send [bytes]
@@ -74,10 +75,10 @@ def is_loopback(host: str) -> bool:
 def parse_page_message(text: str | bytes) -> dict[str, Any]:
     """Decode one message of the page; raise ``ViewerInputError`` naming what is wrong."""
     try:
-        message = json.loads(text)
-    except (ValueError, UnicodeDecodeError) as exc:
-        raise ViewerInputError(f"not JSON: {exc}") from None
-    if not isinstance(message, dict) or not isinstance(message.get("type"), str):
+        message = json_object(text)
+    except UntrustedInputError as exc:
+        raise ViewerInputError(f"not a JSON object: {exc}") from None
+    if not isinstance(message.get("type"), str):
         raise ViewerInputError('a message is a JSON object with a "type"')
     kind = message["type"]
     if kind == "command":

@@ -117,7 +117,10 @@ def test_empty_frames_between_messages_are_skipped_silently():
     (b"KICKOFF", r"malformed JSON \(Expecting value at character 0\): 'KICKOFF'"),
     (b'["STOP"]', r"JSON list, not an object: '\[\"STOP\"\]'"),
     (b"\xff\xfe{}", r"message is not UTF-8 \(invalid start byte at byte 0\)"),
-], ids=["unterminated_object", "bare_word", "list", "not_utf8"])
+    (b'{"robotID": ' + b"9" * 5000 + b"}", r"JSON that cannot be decoded \(Exceeds the limit .*"),
+    (b"[" * 40000 + b"]" * 40000, r"JSON nested 40000 deep, more than 32: .*"),
+    (b'{"ageMs": Infinity}', r"malformed JSON \(Infinity is not a JSON number.*|.*Infinity is not a JSON number.*"),
+], ids=["unterminated_object", "bare_word", "list", "not_utf8", "huge_integer", "deep_nesting", "infinity"])
 def test_a_malformed_message_is_an_error_frame_counted_and_the_stream_goes_on(raw, error):
     decoder = FrameDecoder()
     bad, good = frames(decoder, raw + b"\0" + encode_message({"command": "START"}))

@@ -62,3 +62,38 @@ def test_the_link_comes_back_when_the_box_does_and_skips_a_worldstate_it_cannot_
         link.shutdown()
         thread.join(timeout=5.0)
         assert any("no worldstate this time: our picture is bad" in line for _, line in lines)
+
+
+def test_a_huge_number_or_deep_nesting_from_the_box_is_dropped_and_the_link_goes_on():
+    """Each once killed the link's thread for good while its status still said connected (under the 100 KB cap)."""
+    with RefboxServer(port=0) as box:
+        link, thread, effects, _lines = start_link(box.port)
+        try:
+            box.wait_for(lambda: box.open_connections() == 1, 5.0, "the link's connection")
+            box.send_raw(b'{"command": "KICKOFF", "targetTeam": "", "robotID": ' + b"9" * 5000 + b"}\x00")
+            box.send_raw(b"[" * 40000 + b"]" * 40000 + b"\x00")
+            box.send("START", US)
+            box.wait_for(lambda: any(e.mode is MatchMode.STARTROBOT for e in effects), 5.0, "the command after them")
+            status = link.status()
+            assert status["connected"] and status["malformed"] == 2 and status["connections"] == 1
+            assert thread.is_alive()
+        finally:
+            link.shutdown()
+            thread.join(timeout=5.0)
+
+
+def test_the_practice_box_survives_the_same_and_keeps_only_its_latest_rejections_in_words():
+    import socket
+
+    from coach4sim.refbox_server import KEPT_ERRORS
+
+    logged: list[str] = []
+    with RefboxServer(port=0, log=logged.append) as box, \
+            socket.create_connection(("127.0.0.1", box.port), timeout=5.0) as peer:
+        box.wait_for(lambda: box.open_connections() == 1, 5.0, "the peer's connection")
+        peer.sendall(b'{"type": "worldstate", "ageMs": ' + b"9" * 5000 + b"}\x00")
+        peer.sendall(b"[" * 40000 + b"]" * 40000 + b"\x00")
+        peer.sendall(b"{not json\x00" * (KEPT_ERRORS + 50))
+        box.wait_for(lambda: box.rejected == KEPT_ERRORS + 52, 5.0, "every rejection counted")
+        assert len(box.errors) == KEPT_ERRORS and box.open_connections() == 1
+        assert "cannot be decoded" in " ".join(logged) and "nested 40000 deep" in " ".join(logged)

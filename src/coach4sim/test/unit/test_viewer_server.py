@@ -110,8 +110,11 @@ def test_a_command_goes_to_the_backend_and_its_answer_comes_back():
 
 
 @pytest.mark.parametrize(("message", "error"), [
-    ("{not json", "not JSON"),
+    ("{not json", "malformed JSON"),
     ("[1, 2]", "JSON object"),
+    ("[" * 8000 + "]" * 8000, "nested 8000 deep"),  # under the 16 KiB cap: once an uncaught RecursionError
+    ('{"type": "watch", "robot": ' + "9" * 5000 + "}", "cannot be decoded"),  # once an uncaught ValueError
+    ('{"type": "replay", "action": "seek", "t": NaN}', "NaN is not a JSON number"),
     ({"type": "dance"}, "unknown message type"),
     ({"type": "command", "command": "OUR_HATTRICK", "team": "nubot"}, "OUR_HATTRICK"),
     ({"type": "command", "command": "TEST", "team": "nubot"}, "not a command of the page"),
@@ -119,7 +122,7 @@ def test_a_command_goes_to_the_backend_and_its_answer_comes_back():
     ({"type": "watch", "robot": 7}, "robot name"),
     ({"type": "replay", "action": "rewind"}, "play, pause, seek or speed"),
     ({"type": "replay", "action": "pause"}, "cannot be paused"),
-])
+], ids=lambda value: str(value)[:40])
 def test_bad_messages_get_a_clear_error_and_change_nothing(message, error):
     async def scenario():
         backend = SceneBackend()
@@ -136,8 +139,10 @@ def test_bad_messages_get_a_clear_error_and_change_nothing(message, error):
 
 
 def test_replay_numbers_must_be_finite():
-    with pytest.raises(ViewerInputError, match="finite"):
+    with pytest.raises(ViewerInputError, match="NaN is not a JSON number"):
         parse_page_message('{"type": "replay", "action": "seek", "t": NaN}')
+    with pytest.raises(ViewerInputError, match="finite"):
+        parse_page_message('{"type": "replay", "action": "seek", "t": 1e999}')
     with pytest.raises(ViewerInputError, match="finite"):
         parse_page_message('{"type": "replay", "action": "speed", "speed": true}')
 
