@@ -3,6 +3,7 @@
 import os
 import signal
 import socket
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -239,3 +240,46 @@ def test_stop_ends_remembered_descendants_whose_launcher_died(tmp_path):
     second.stop(timeout=2)
     time.sleep(0.2)
     assert not processes._running(escaped[0]), "a remembered node outlived its dead launcher's stop()"
+
+
+RUNNER = """
+import sys, time
+from pathlib import Path
+from nubot_common.processes import Launched
+folder = Path(sys.argv[1])
+child = Launched([sys.executable, "-c", sys.argv[2], str(folder)], dict(__import__("os").environ),
+                 folder / "child.log")
+print(child.process.pid, flush=True)
+time.sleep(600)
+"""
+TRAPPING_CHILD = """
+import signal, sys, time
+from pathlib import Path
+def closed(*_):
+    (Path(sys.argv[1]) / "closed").write_text("SIGINT")
+    sys.exit(0)
+signal.signal(signal.SIGINT, closed)
+(Path(sys.argv[1]) / "ready").write_text("")
+time.sleep(600)
+"""
+
+
+def test_a_launched_process_gets_sigint_and_ends_when_its_launcher_is_killed(tmp_path):
+    """However the launcher ends (here SIGKILL: no stop(), no atexit), the kernel interrupts what it launched."""
+    runner = subprocess.Popen([sys.executable, "-c", RUNNER, str(tmp_path), TRAPPING_CHILD], stdout=subprocess.PIPE,
+                              text=True)
+    child = 0
+    try:
+        child = int(runner.stdout.readline())
+        processes.wait_until(lambda: (tmp_path / "ready").exists(), 10.0, "the child's start")
+        runner.kill()
+        runner.wait(timeout=5)
+        processes.wait_until(lambda: (tmp_path / "closed").exists(), 10.0, "the child's SIGINT")
+        processes.wait_until(lambda: not Path(f"/proc/{child}").exists() or
+                             Path(f"/proc/{child}/stat").read_text().rsplit(")", 1)[1].split()[0] == "Z",
+                             10.0, "the child's end")
+    finally:
+        runner.kill()
+        runner.wait(timeout=5)
+        if child and Path(f"/proc/{child}").exists():  # left running (the test failed): not beyond the test
+            os.kill(child, signal.SIGKILL)

@@ -5,12 +5,17 @@ Provides: ``free_port``, ``wait_until`` (poll a condition on the wall clock), ``
 it), ``Launched`` (a ``roslaunch`` or ``rosrun`` process in its own process group, stopped with
 everything it started) and ``process_table`` (every process's /proc stat fields, read once for several
 look-ups).
-Logs go to ``log_dir`` so that a failing test can show them.
+Logs go to ``log_dir`` so that a failing test can show them. No launched process outlives the process that
+launched it, however that one ends (SIGKILL, an out-of-memory kill, a CI timeout): the kernel sends each one SIGINT
+when its launcher dies (``PR_SET_PDEATHSIG``), and roslaunch, given SIGINT, stops everything it started, as Ctrl-C
+would (a recording bag is closed).
 """
 
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import functools
 import os
 import signal
 import socket
@@ -37,8 +42,28 @@ def free_port() -> int:
             return port
 
 
-def _default_sigint() -> None:
+_PR_SET_PDEATHSIG = 1  # prctl(2): the signal this process gets when the thread that started it ends
+try:
+    _prctl: Any = ctypes.CDLL(None, use_errno=True).prctl  # looked up now: the child may only call it
+except (OSError, AttributeError):  # not Linux: processes are still stopped by stop(), not by the kernel
+    _prctl = None
+
+
+def ending_with_this_process() -> Callable[[], None]:
+    """A ``preexec_fn`` for ``subprocess.Popen``: the child gets SIGINT when this process (its launching thread) ends,
+    however it ends, and SIGINT at its default."""
+    return functools.partial(_child_setup, os.getpid())
+
+
+def _child_setup(launcher: int) -> None:
+    """In the child before it runs the command: SIGINT back to its default (started from a background job, `make
+    match &` or nohup, it would inherit it ignored, and stop() could only kill it: rosbag would leave its bag
+    unclosed), and SIGINT from the kernel when its launcher dies; a launcher gone already ends it at once."""
     signal.signal(signal.SIGINT, signal.SIG_DFL)
+    if _prctl is not None:
+        _prctl(_PR_SET_PDEATHSIG, signal.SIGINT, 0, 0, 0)
+        if os.getppid() != launcher:
+            os.kill(os.getpid(), signal.SIGINT)
 
 
 class Launched:
@@ -48,11 +73,10 @@ class Launched:
         self.args = list(args)
         self.log_path = log_path
         self._log: IO[bytes] = open(log_path, "wb")  # noqa: SIM115 - closed in stop()
-        # SIGINT back to its default: started from a background job (`make match &`, nohup) the child would
-        # inherit it ignored, and stop() could only kill it (rosbag would leave its bag unclosed).
+        # Launched from the main thread (the parent-death signal follows the thread that started the child).
         self.process = subprocess.Popen(self.args, env=env, stdout=self._log, stderr=subprocess.STDOUT,
                                         stdin=subprocess.DEVNULL, start_new_session=True,
-                                        preexec_fn=_default_sigint)
+                                        preexec_fn=ending_with_this_process())
         self._seen: set[tuple[int, str]] = set()  # (pid, start time) of every descendant remember() saw
         self._stopping: list[int] | None = None  # the processes interrupt() asked to stop
 

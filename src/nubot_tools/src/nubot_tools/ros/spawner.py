@@ -29,6 +29,7 @@ from nubot_common import NubotCommonError
 from nubot_common.geometry import yaw_to_quaternion
 from nubot_common.naming import RobotSelection
 from nubot_common.params import load_yaml
+from nubot_common.processes import ending_with_this_process
 from nubot_common.srv import DeleteModel, SpawnModel
 from nubot_common.world_description import WORLD_NAMESPACE, world_from_params
 from nubot_control.plugins import resolve_spec, strategy_class
@@ -91,7 +92,8 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory(prefix=f"team_{team.prefix}_") as folder:  # gone with the team
         launch_file = Path(folder) / "team.launch"
         launch_file.write_text(team_launch_xml(team, args.tracker, vision, args.processes))
-        child = subprocess.Popen(["roslaunch", "--skip-log-check", str(launch_file)], start_new_session=True)
+        child = subprocess.Popen(["roslaunch", "--skip-log-check", str(launch_file)], start_new_session=True,
+                                 preexec_fn=ending_with_this_process())
         print(f"[spawn] team {team.name}: {len(team.robots)} robots' nodes started (pid {child.pid})", flush=True)
         _supervise(child)
     if not args.keep_models:
