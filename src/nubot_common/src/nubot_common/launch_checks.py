@@ -21,7 +21,7 @@ from nubot_common.processes import RosMaster, wait_until
 
 RUN_TIMEOUT = 30.0  # [s] for a node that must refuse its parameters and exit
 UP_TIMEOUT = 60.0  # [s] for a launch to refuse or come up
-LAUNCH_KEYS = ("package", "type", "args", "remap")  # what ``launched`` tells of a node besides its parameters
+LAUNCH_KEYS = ("package", "type", "args", "remap", "required")  # what ``launched`` tells besides a node's parameters
 
 
 def run_refused(master: RosMaster, package: str, node: str, param: str, world: Path) -> tuple[int, str]:
@@ -75,7 +75,8 @@ def serves(service: str) -> Callable[[Any], bool]:
 
 def launched(launch: Path, *args: str) -> dict[str, dict[str, Any]]:
     """The nodes a launch file starts with ``args``: namespaced name -> its package, type, command-line arguments,
-    remappings and private parameters (parsed by roslaunch; nothing is started and no master is needed)."""
+    remappings, whether it is required (its end ends the launch) and private parameters (parsed by roslaunch; nothing
+    is started and no master is needed)."""
     import roslaunch.config
     import roslaunch.xmlloader
 
@@ -86,7 +87,7 @@ def launched(launch: Path, *args: str) -> dict[str, dict[str, Any]]:
         name = f"{node.namespace.rstrip('/')}/{node.name}"
         private = {k[len(name) + 1:]: p.value for k, p in config.params.items() if k.startswith(name + "/")}
         nodes[name] = {"package": node.package, "type": node.type, "args": node.args, "remap": dict(node.remap_args),
-                       **private}
+                       "required": node.required, **private}
     return nodes
 
 

@@ -38,3 +38,12 @@ def test_an_unknown_layout_is_refused_naming_the_argument():
     done = subprocess.run(["roslaunch", "--nodes", str(LAUNCH), "robot:=3", "processes:=three"],
                           capture_output=True, text=True, timeout=60)
     assert done.returncode != 0 and "processes_must_be_one_or_two" in done.stdout + done.stderr
+
+
+def test_every_node_of_the_robot_is_required_so_a_robot_that_cannot_run_one_stops_whole():
+    """real_robot.launch robot:=9 once left the simulator and hardware control driving after the world model and the
+    team link died with FATAL errors: a required node's end ends the launch, and roslaunch names it."""
+    for args in ((), ("processes:=two",), ("control:=false",), ("backend:=sim",)):
+        nodes = launched(LAUNCH, "robot:=3", *args)
+        robot = {name: node["required"] for name, node in nodes.items() if name != "/referee"}  # the field's, not it
+        assert len(robot) >= 4 and all(robot.values()), robot
