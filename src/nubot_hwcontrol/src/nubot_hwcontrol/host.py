@@ -78,6 +78,8 @@ class HardwareHost:
         self._wall = wall
         self.lock = threading.Lock()
         self._fired = threading.Condition(self.lock)
+        self._last_cycle: float | None = None
+        self.skipped = 0  # timer wakes at the very time of the last cycle, skipped
 
     def command_velocity(self, now: float, vx: float, vy: float, w: float) -> None:
         """Raises ``NubotCommonError`` or ``HardwareError`` for a refused command."""
@@ -104,12 +106,18 @@ class HardwareHost:
             self.ctl.kicker.cancel()
             return False
 
-    def cycle(self, now: float) -> tuple[CycleReport, Status | None]:
-        """One control cycle at ``now`` [s] on the node's clock, and the status when it is due. Raises
-        ``NubotCommonError`` or ``HardwareError`` for a cycle that failed."""
+    def cycle(self, now: float) -> tuple[CycleReport, Status | None] | None:
+        """One control cycle at ``now`` [s] on the node's clock, and the status when it is due; None, and nothing
+        done, at the very time of the last cycle (under sim time the timer can wake twice within one /clock tick:
+        no fault, and this time's cycle ran already). Raises ``NubotCommonError`` or ``HardwareError`` for a cycle
+        that failed, such as one before the last (the clock went back)."""
+        if now == self._last_cycle:
+            self.skipped += 1
+            return None
         self.timing.tick(now)
         with self.lock:
             report = self.ctl.cycle(now)
+            self._last_cycle = now
             if report.fired is not None:
                 self._fired.notify_all()
         if now - self._last_status < self.status_period:

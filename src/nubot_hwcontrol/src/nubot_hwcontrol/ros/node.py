@@ -106,10 +106,13 @@ class HwControlNode:
     def cycle(self, _event: object) -> None:
         now = rospy.get_time()  # the node's clock: the wall clock on a real robot, the simulator's under sim time
         try:
-            report, status = self.host.cycle(now)
+            done = self.host.cycle(now)
         except (NubotCommonError, HardwareError) as exc:
             rospy.logerr_throttle(2.0, f"nubot_hwcontrol: cycle failed: {exc}")
             return
+        if done is None:
+            return  # the timer woke again within one tick of the clock: this time's cycle ran already
+        report, status = done
         odo = report.odometry
         msg = OdoInfo(Vx=odo.vx, Vy=odo.vy, w=odo.w, RobotStuck=odo.stuck, PowerState=report.state.power_on)
         msg.header.stamp = rospy.Time.from_sec(now)
