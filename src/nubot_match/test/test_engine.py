@@ -115,6 +115,26 @@ def test_external_robots_do_what_the_actions_say_and_the_others_play(tmp_path):
         LockstepMatch(match.config, external=["nubot7"])
 
 
+def test_a_nan_command_is_refused_as_the_simulator_node_refuses_it_and_the_match_plays_on(tmp_path):
+    """Once it ended the match with a traceback, where ROS refuses the message and plays on: the robot keeps its last
+    good velocity until the simulator's command timeout (0.5 s) stops it, the refusal is reported, the next good
+    command drives it again."""
+    home, away = small_teams(tmp_path)
+    match = LockstepMatch(match_config(home, away, half_seconds=30), external=["nubot2"])
+    match.reset(0)
+    go, bad = RobotCommand(BodyVelocity(1.0, 0.0, 0.0)), RobotCommand(BodyVelocity(math.nan, 0.0, 0.0))
+    for _ in range(33):
+        match.step({"nubot2": go})
+    before = match.sim.world.robot_state("nubot2")
+    steps = [match.step({"nubot2": bad}) for _ in range(33)]
+    after = match.sim.world.robot_state("nubot2")
+    assert 0.4 < after.x - before.x < 0.8 and math.hypot(after.vx, after.vy) < 0.05  # 1 m/s, then stopped
+    assert all(len(s.refused) == 1 for s in steps) and match.refused_commands == 33
+    robot, call, reason = steps[0].refused[0]
+    assert (robot, call) == ("nubot2", "velocity") and "finite" in reason
+    assert not match.done and match.step({"nubot2": go}).refused == []
+
+
 def test_stepping_before_reset_is_refused():
     with pytest.raises(NubotMatchError, match="reset"):
         LockstepMatch(match_config(half_seconds=10)).step()

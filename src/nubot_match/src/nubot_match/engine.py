@@ -57,6 +57,8 @@ class MatchStep:
     time: float  # sim time at its end [s]
     events: list[SimEvent] = field(default_factory=list)  # goals, kicks, touches, captures, releases
     decisions: list[RefereeDecision] = field(default_factory=list)
+    refused: list[tuple[str, str, str]] = field(default_factory=list)  # (robot, call, reason): commands the robot
+    # interface refused (a NaN velocity, a bad strength), as the simulator node refuses them; the match plays on
     done: bool = False  # the match is over (full time)
 
 
@@ -73,6 +75,7 @@ class LockstepMatch:
         self.sim: Simulator | None = None
         self.agents: dict[str, RobotAgent] = {}
         self.steps: dict[str, AgentStep] = {}  # each robot's latest control cycle
+        self.refused_commands = 0  # calls of the robot interface refused since reset (MatchStep.refused: which)
         self.goalies: frozenset[str] = frozenset()  # each team's goalie: it also sees the ball in 3-D
         self.seed: int | None = None
 
@@ -103,6 +106,7 @@ class LockstepMatch:
         self.game = GameController([TeamSpec(t.config.prefix, t.config.attack, t.config.goalie) for t in cfg.teams])
         self.referee = AutomaticReferee(cfg.referee, self.game)
         self.steps = {}
+        self.refused_commands = 0  # calls of the robot interface refused since reset (MatchStep.refused: which)
         self._sensors = SensorSchedule(cfg.sim)  # the simulator node's: its percept and model-state clocks
         self._control = {period: Periodic(period) for period in set(self.control_period.values())}
         self._judge = Periodic(cfg.referee_period)
@@ -171,6 +175,7 @@ class LockstepMatch:
             self._physics_step({}, out)
             out.events.clear()
             out.decisions.clear()
+            out.refused.clear()
             if progress is not None and ticker.due(sim.time):
                 progress(self)
         return self.game.state()
@@ -237,7 +242,11 @@ class LockstepMatch:
                 listener.robot_step(t, name, step)
 
     def _apply(self, name: str, command: RobotCommand, out: MatchStep) -> None:
-        _done, event = self._require_sim().execute(name, command)
+        def refused(call: str, reason: str) -> None:
+            self.refused_commands += 1
+            out.refused.append((name, call, reason))
+
+        _done, event = self._require_sim().execute(name, command, refused)
         if event is not None:
             self._note_events([event], out)
 

@@ -18,9 +18,9 @@ the limits of ``sim_visual.params``); a refusal raises ``SimVisualError`` and ch
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import astuple, dataclass, replace
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Protocol, TypeVar
 
 import numpy as np
 
@@ -57,6 +57,7 @@ if TYPE_CHECKING:
     from sim_visual.omni_camera import RenderedFrame
     from sim_visual.rgbd_camera import RgbdFrame
 
+T = TypeVar("T")
 BALL3D_STREAM = 2  # the RGB-D percepts' generator: SeedSequence([seed, BALL3D_STREAM]) (the sensors' is 1)
 _NO_NOISE = NoiseParams(position_std=0.0, velocity_std=0.0, self_position_std=0.0, heading_std=0.0)
 _KICK_FLAG_TIME = 0.2  # RobotInfo.iskick stays true this long after a kick [s]
@@ -355,17 +356,33 @@ class Simulator:
         self.last_touch = name
         return True, BallKicked(self.time, name, kind, velocity, (kicked.x, kicked.y, kicked.z))
 
-    def execute(self, name: str, command: RobotCommand) -> tuple[bool, BallKicked | None]:
+    def execute(self, name: str, command: RobotCommand,
+                refused: Callable[[str, str], None] | None = None) -> tuple[bool, BallKicked | None]:
         """One control cycle's calls of the robot interface, as a control node makes them: the velocity
         (VelCmd), a BallHandle request if there is one, a Shoot if there is one. Return whether the shot was
-        done ((True, None) without one) and the kick it made."""
+        done ((True, None) without one) and the kick it made. With ``refused``, each call the interface refuses
+        (a NaN velocity, a bad strength) is reported to it as (call, reason) and the others go on, as the
+        simulator node refuses one message and takes the next (a refused velocity leaves the last good one in
+        force, a refused Shoot is not done); without it, the first refusal raises ``SimVisualError``."""
+        def call(part: str, action: Callable[[], T]) -> T | None:
+            if refused is None:
+                return action()
+            try:
+                return action()
+            except SimVisualError as exc:
+                refused(part, str(exc))
+                return None
+
         v = command.velocity
-        self.command_velocity(name, v.vx, v.vy, v.w)
+        call("velocity", lambda: self.command_velocity(name, v.vx, v.vy, v.w))
         if command.ball_handle is not None:
-            self.ball_handle(name, command.ball_handle)
+            enable = command.ball_handle
+            call("BallHandle", lambda: self.ball_handle(name, enable))
         if command.kick is None:
             return True, None
-        return self.shoot(name, float(command.kick.strength), int(command.kick.kind))
+        kick = command.kick
+        shot = call("Shoot", lambda: self.shoot(name, float(kick.strength), int(kick.kind)))
+        return shot if shot is not None else (False, None)
 
     def update_params(self, plugin: PluginParams | None = None, noise: NoiseParams | None = None) -> None:
         if plugin is not None:
