@@ -37,6 +37,7 @@ from dataclasses import asdict, dataclass
 from datetime import datetime
 from pathlib import Path
 
+from nubot_common.json_text import strict_json
 from nubot_common.naming import team_of
 from nubot_match import NubotMatchError
 from nubot_match.config import TEAMS, MatchConfig, match_config
@@ -289,7 +290,7 @@ class Evaluation:
                                "rss_mib_max": max((r.rss_mib for r in results), default=None)},
                 "solver_errors": sum(r.solver_errors for r in results),  # the physics' "LCP internal error"s
                 "matches": [r.to_json() for r in results]}
-        _atomic_write(self.out / "results.json", json.dumps(data, indent=2) + "\n")
+        _atomic_write(self.out / "results.json", strict_json(data))  # an unknown interval (one match) is null
 
     def finish(self) -> str:
         results = sorted(self.results, key=lambda r: r.index)

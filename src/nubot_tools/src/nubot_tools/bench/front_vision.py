@@ -18,7 +18,6 @@ against distance; time per frame); a summary on stdout. Every figure but the tim
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import time
@@ -31,6 +30,7 @@ import numpy as np
 
 from front_vision.pipeline import FrontVision
 from nubot_common.camera_model import PinholeCamera, load_camera
+from nubot_common.json_text import strict_json
 from nubot_common.packages import package_path
 from nubot_common.world_description import WorldDescription
 from nubot_tools.bench.harness import cpu_pressure, machine, pinned
@@ -215,7 +215,7 @@ def main(argv: list[str] | None = None) -> int:
         results, process_ms = run(args)
     finally:
         cv2.setNumThreads(threads)
-    (args.out / "front_vision.json").write_text(json.dumps(results, indent=2) + "\n")
+    (args.out / "front_vision.json").write_text(strict_json(results, indent=2))
     plot(results, process_ms, args.out / "front_vision.png")
     print(report(results))
     print(f"figures: {args.out / 'front_vision.json'}, {args.out / 'front_vision.png'}")

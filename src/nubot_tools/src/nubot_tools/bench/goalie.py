@@ -24,7 +24,6 @@ by distance) and ``goalie_<label>.png`` (save rate by kind and distance band). D
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import time
 from dataclasses import asdict, dataclass
@@ -37,6 +36,7 @@ import numpy as np
 from kinect_ball.pipeline import KinectBall, KinectBallParams
 from nubot_common.clouds import Cloud
 from nubot_common.geometry import Pose2D
+from nubot_common.json_text import strict_json
 from nubot_common.match_mode import MatchMode
 from nubot_common.naming import parse_robot_name
 from nubot_common.packages import package_path
@@ -224,7 +224,7 @@ def main(argv: list[str] | None = None) -> int:
                "shots": [asdict(s) for s in played]}
     args.out.mkdir(parents=True, exist_ok=True)
     name = f"goalie_{args.label}"
-    (args.out / f"{name}.json").write_text(json.dumps(results, indent=2) + "\n")
+    (args.out / f"{name}.json").write_text(strict_json(results, indent=2))
     plot(summary, args.label, args.out / f"{name}.png")
     for kind in ("lob", "ground"):
         s = summary[kind]

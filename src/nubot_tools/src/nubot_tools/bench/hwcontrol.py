@@ -21,6 +21,7 @@ import tempfile
 from pathlib import Path
 
 from nubot_comm import netns
+from nubot_common.json_text import strict_json
 from nubot_hwcontrol.controller import HardwareController, HwControlParams
 from nubot_hwcontrol.sim_drive import SimulatedDrive
 from nubot_hwcontrol.sim_world import SimulatorWorld
@@ -98,6 +99,6 @@ def main() -> int:
     else:
         print(f"skipping the ROS part: {why}")
     args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "hwcontrol.json").write_text(json.dumps(report, indent=1) + "\n")
+    (args.out / "hwcontrol.json").write_text(strict_json(report, indent=1))
     print(f"wrote {args.out / 'hwcontrol.json'}")
     return 0

@@ -34,7 +34,6 @@ Every figure but the times is deterministic for a seed.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import time
@@ -53,6 +52,7 @@ from kinect_ball.pipeline import KinectBall, KinectBallParams
 from nubot_common.ball_flight import landing
 from nubot_common.clouds import cloud_from_msg, cloud_msg
 from nubot_common.geometry import Pose2D
+from nubot_common.json_text import strict_json
 from nubot_common.packages import package_path
 from nubot_common.params import load_yaml
 from nubot_common.world_description import load_world
@@ -335,7 +335,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("--seed must not be negative and --lobs must be positive")
     args.out.mkdir(parents=True, exist_ok=True)
     results, records = run(args)
-    (args.out / "kinect_ball.json").write_text(json.dumps(results, indent=2) + "\n")
+    (args.out / "kinect_ball.json").write_text(strict_json(results, indent=2))
     plot(results, records, args.out / "kinect_ball.png")
     print(report(results))
     print(f"figures: {args.out / 'kinect_ball.json'}, {args.out / 'kinect_ball.png'}")

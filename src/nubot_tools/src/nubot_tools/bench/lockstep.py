@@ -62,6 +62,7 @@ import ode
 import psutil
 
 import nubot_match.envs  # noqa: F401 - registers NuBot/ScoreAgainstGoalie-v0
+from nubot_common.json_text import strict_json
 from nubot_match import evaluate
 from nubot_match.bag import BagRecorder
 from nubot_match.config import match_config
@@ -572,7 +573,7 @@ def main(argv: list[str] | None = None) -> int:
     results["machine"]["load_average_end"] = [_r(x) for x in os.getloadavg()]
     results["machine"]["cpu_pressure_some_avg60_percent_end"] = cpu_pressure()
     results["wall_seconds_total"] = _r(time.perf_counter() - started, 1)
-    (args.out / "lockstep.json").write_text(json.dumps(results, indent=2) + "\n")
+    (args.out / "lockstep.json").write_text(strict_json(results, indent=2))
     plot(results, args.out / "lockstep.png")
     print(table(results))
     print(f"figures: {args.out / 'lockstep.json'}, {args.out / 'lockstep.png'}")

@@ -16,7 +16,6 @@ Provides: ``<out>/team_link.json`` and ``<out>/team_link.png`` (latency distribu
 from __future__ import annotations
 
 import argparse
-import json
 import tempfile
 import threading
 import time
@@ -29,6 +28,7 @@ import psutil
 from nubot_comm import netns
 from nubot_comm.codec import DEFAULT_URL
 from nubot_comm.link import TeamLink
+from nubot_common.json_text import strict_json
 from nubot_common.processes import RosMaster, wait_until
 from nubot_lcm import coach_packet_t, team_packet_t
 from nubot_tools.workspace import BENCH_RESULTS
@@ -171,7 +171,7 @@ def main(argv: list[str] | None = None) -> int:
             cpu = measure_node_cpu(ns, args.seconds, Path(logs))
     result = {"url": DEFAULT_URL, "rate_hz": args.rate, "seconds": args.seconds,
               "latency": [{k: v for k, v in row.items() if k != "latencies_ms"} for row in rows], "node": cpu}
-    (args.out / "team_link.json").write_text(json.dumps(result, indent=2) + "\n")
+    (args.out / "team_link.json").write_text(strict_json(result, indent=2))
     plot(rows, args.out / "team_link.png")
     for row in result["latency"]:
         print(f"loss {row['loss_percent']:>2} %: delivered {row['delivered']}/{row['sent']} "

@@ -43,7 +43,6 @@ Every figure but the times is deterministic for a seed (one ``numpy.random.Gener
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import time
@@ -58,6 +57,7 @@ import numpy as np
 
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D, rotate, wrap_angle
+from nubot_common.json_text import strict_json
 from nubot_common.packages import package_path
 from nubot_common.params import load_yaml
 from nubot_common.world_description import WorldDescription, load_world
@@ -778,7 +778,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--seed must not be negative, got {args.seed}")
     args.out.mkdir(parents=True, exist_ok=True)
     results = run(args)
-    (args.out / "vision.json").write_text(json.dumps(results, indent=2) + "\n")
+    (args.out / "vision.json").write_text(strict_json(results, indent=2))
     print(report(results))
     print(f"figures: {args.out / 'vision.json'}, {args.out / 'vision_localization.png'}, "
           f"{args.out / 'vision_ball.png'}")

@@ -43,6 +43,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from nubot_common.json_text import strict_json
 from nubot_common.naming import team_of
 from nubot_common.world_description import WorldDescription, load_world
 from nubot_match import match_analysis as ma
@@ -263,7 +264,7 @@ def write_report(out: Path, report: dict[str, Any], draw: Callable[[Path], None]
     try:
         out.mkdir(parents=True, exist_ok=True)
         staging = Path(tempfile.mkdtemp(prefix=".match_report-", dir=out))
-        (staging / "report.json").write_text(json.dumps(report, indent=2) + "\n")
+        (staging / "report.json").write_text(strict_json(report))
         draw(staging)
         for name in REPORT_FILES:
             os.replace(staging / name, out / name)

@@ -45,6 +45,7 @@ from typing import TYPE_CHECKING
 
 import matplotlib.pyplot as plt
 
+from nubot_common.json_text import strict_json
 from nubot_match.config import match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.match_analysis import FOUL_KINDS, analyse
@@ -231,7 +232,7 @@ def main(argv: list[str] | None = None) -> int:
     timing = [m for m in complete if m.get("missed_cycle_share") is not None]
     if timing:  # lockstep misses none: each robot's cycle comes at its time
         result["ros_missed_cycle_share"] = round(sum(m["missed_cycle_share"] for m in timing) / len(timing), 4)
-    (args.out / "faithfulness.json").write_text(json.dumps(result, indent=2) + "\n")
+    (args.out / "faithfulness.json").write_text(strict_json(result, indent=2))
     plot(comparison, args.out / "faithfulness.png",
          f"lockstep ({len(lockstep)}) vs ROS ({len(complete)}) matches of 2 x {half:g} s, mean and 95 % CI")
     for row in comparison.values():

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import rosbag
 
+from nubot_common.json_text import strict_json
 from nubot_tools.workspace import BENCH_RESULTS
 
 PLAY = ("goals", "passes_completed", "passes_tried", "shots", "running_share", "collisions_per_minute",
@@ -104,7 +105,7 @@ def main(argv: list[str] | None = None) -> int:
         by_tracker[tracker] = {"matches": matches, "mean": summary}
         print(f"[bench] {tracker}: {json.dumps(summary)}", flush=True)
     result = {"half_seconds": args.half_seconds, "seeds": args.seeds, "by_tracker": by_tracker}
-    (args.out / "match.json").write_text(json.dumps(result, indent=2))
+    (args.out / "match.json").write_text(strict_json(result, indent=2))
     print(f"figures: {args.out / 'match.json'}")
     return 0
 

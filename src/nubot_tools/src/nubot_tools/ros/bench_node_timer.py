@@ -16,7 +16,6 @@ Provides: ``<out>/node_timer.json`` (CPU per node [% of a core] and per /clock m
 from __future__ import annotations
 
 import argparse
-import json
 import statistics
 import sys
 import tempfile
@@ -29,6 +28,7 @@ import psutil
 import rospy
 from rosgraph_msgs.msg import Clock
 
+from nubot_common.json_text import strict_json
 from nubot_common.node_io import publisher
 from nubot_common.processes import RosMaster, wait_until
 from nubot_tools.workspace import BENCH_RESULTS
@@ -139,7 +139,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("--nodes, --seconds, --repeats and --clock-rate must be positive")
     result = run(args.nodes, args.seconds, args.repeats, args.clock_rate)
     args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "node_timer.json").write_text(json.dumps(result, indent=2) + "\n")
+    (args.out / "node_timer.json").write_text(strict_json(result, indent=2))
     plot(result, args.out / "node_timer.png")
     for kind in KINDS:
         k = result["kinds"][kind]

@@ -11,7 +11,6 @@ Writes ``<out>/sim.json`` and prints a table.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import platform
@@ -25,6 +24,7 @@ import rospy
 import yaml
 from rosgraph_msgs.msg import Clock
 
+from nubot_common.json_text import strict_json
 from nubot_common.msg import VelCmd
 from nubot_common.processes import RosMaster
 from nubot_tools.workspace import BENCH_RESULTS
@@ -155,7 +155,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"[bench] sim_visual node, {count} robot(s), real_time_factor {rtf} ...", flush=True)
             results["ros"].append(bench_ros(master, args.out, count, rtf, args.window))
         rospy.signal_shutdown("bench done")
-    (args.out / "sim.json").write_text(json.dumps(results, indent=2))
+    (args.out / "sim.json").write_text(strict_json(results, indent=2))
     print(f"{'case':<34}{'steps/s':>10}{'RTF':>8}{'CPU':>7}")
     for r in results["core"]:
         print(f"{'core, %d robot(s)' % r['robots']:<34}{r['steps_per_second']:>10.0f}{r['real_time_factor']:>8.2f}")

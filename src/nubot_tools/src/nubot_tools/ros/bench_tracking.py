@@ -15,7 +15,6 @@ Writes ``<out>/tracking.json`` and ``<out>/tracking_{path,speed,error}_<speed>.p
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import subprocess
@@ -29,6 +28,7 @@ import numpy as np
 import rospy
 
 from nubot_common.geometry import Pose2D, rotate
+from nubot_common.json_text import strict_json
 from nubot_common.msg import ModelStates, TrackingInfo
 from nubot_common.processes import RosMaster, wait_until
 from nubot_common.world_description import WorldDescription
@@ -250,7 +250,7 @@ def main(argv: list[str] | None = None) -> int:
                 r.pop("series")
             result[f"fig13_{speed}"] = runs
         rospy.signal_shutdown("done")
-    (args.out / "tracking.json").write_text(json.dumps(result, indent=2))
+    (args.out / "tracking.json").write_text(strict_json(result, indent=2))
     print(f"figures: {args.out / 'tracking.json'}")
     return 0
 

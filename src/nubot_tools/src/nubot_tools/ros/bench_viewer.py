@@ -41,6 +41,7 @@ import matplotlib.pyplot as plt
 import psutil
 from PIL import Image
 
+from nubot_common.json_text import strict_json
 from nubot_tools.browser import Page
 from nubot_tools.workspace import BENCH_RESULTS
 
@@ -405,7 +406,7 @@ def main(argv: list[str] | None = None) -> int:
         "matches": matches,
         "page_cost": page_cost(matches["no_page"], matches["page"]),
     }
-    (args.out / "viewer.json").write_text(json.dumps(result, indent=2) + "\n")
+    (args.out / "viewer.json").write_text(strict_json(result, indent=2))
     plot(result, args.out / "viewer.png")
     print(f"[bench] viewer: page cost {json.dumps(result['page_cost'])}", flush=True)
     print(f"figures: {args.out / 'viewer.json'}, {args.out / 'viewer.png'}", flush=True)

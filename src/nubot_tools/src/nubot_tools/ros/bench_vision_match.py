@@ -12,11 +12,11 @@ shots and collisions; per mode their means over the seeds.
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 import yaml
 
+from nubot_common.json_text import strict_json
 from nubot_tools.ros.bench_match import PERFORMANCE, PLAY, mean_of, play_match
 from nubot_tools.workspace import BENCH_RESULTS
 
@@ -54,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     result = {"seeds": args.seeds, "half_seconds": args.half_seconds, "teams": "2 vs 2", "means": means,
               "matches": matches}
     args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "vision_match.json").write_text(json.dumps(result, indent=2))
+    (args.out / "vision_match.json").write_text(strict_json(result, indent=2))
     for mode, m in means.items():
         print(f"{mode}: goals {m['goals']}, passes {m['passes_completed']}/{m['passes_tried']}, shots {m['shots']}, "
               f"real-time factor {m['achieved_real_time_factor']}, slowest loop {m['control_rate_min_hz']} Hz, "

@@ -9,7 +9,6 @@ demo scored, 1 otherwise.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import threading
@@ -22,6 +21,7 @@ import rospy
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import String
 
+from nubot_common.json_text import strict_json
 from nubot_common.msg import GoalEvent, ModelStates
 from nubot_common.processes import RosMaster
 from nubot_tools.progress import SimProgress
@@ -138,7 +138,7 @@ def main(argv: list[str] | None = None) -> int:
         "distance_covered_m": round(watcher.distance_covered(), 3),
         "simulator_crashed": crashed,
     }
-    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    (out / "summary.json").write_text(strict_json(summary, indent=2))
     plot(watcher, out / "trajectory.png", 18.0, 12.0)
     print(f"done after {summary['sim_seconds']:.2f} s of sim time ({summary['wall_seconds']:.1f} s wall): "
           f"{kicks} kick(s), {len(watcher.goals)} goal(s), nubot1 covered {summary['distance_covered_m']:.2f} m")

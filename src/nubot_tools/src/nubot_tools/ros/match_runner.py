@@ -15,7 +15,6 @@ time], ``--halves``, ``--real-time-factor``, ``--seed``, ``--team`` (twice), ``-
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import re
 import signal
@@ -32,6 +31,7 @@ import rospy
 from rosgraph_msgs.msg import Clock
 
 from nubot_common import NubotCommonError
+from nubot_common.json_text import strict_json
 from nubot_common.msg import GameState
 from nubot_common.naming import RobotSelection
 from nubot_common.node_io import wait_for_robots
@@ -247,7 +247,7 @@ class MatchRun:
                 self._note(f"could not reindex {active.name}: {done.stderr.strip()}")
         outcome = {"ended": "full time" if self.ended is None else "cut short", "reason": self.ended,
                    "sim_time": round(self.watcher.clock, 2), "events": self.events}
-        (self.out / RUN_FILE).write_text(json.dumps(outcome, indent=2) + "\n")
+        (self.out / RUN_FILE).write_text(strict_json(outcome, indent=2))
         if self.ended is not None:
             print(f"  the match was cut short at sim {_clock(self.watcher.clock)}: {self.ended}", flush=True)
 
@@ -436,7 +436,7 @@ def play(argv: list[str] | None) -> int:
     if perf is not None and perf.end is not None and bag.exists():
         figures = perf.result(bag)
         args.perf_json.parent.mkdir(parents=True, exist_ok=True)
-        args.perf_json.write_text(json.dumps(figures, indent=2))
+        args.perf_json.write_text(strict_json(figures, indent=2))
         print(f"  performance: real-time factor {figures['achieved_real_time_factor']}, slowest control "
               f"loop {figures['control_rate_min_hz']} Hz, missed cycles "
               f"{100 * figures['missed_cycle_share']:.1f} %, CPU {figures['cpu_cores_total']} of "

@@ -23,7 +23,6 @@ Writes ``--out`` (JSON); exits 0 unless the graph did not come up.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import shutil
 import subprocess
@@ -36,6 +35,7 @@ import rosgraph
 import rospy
 from std_msgs.msg import Bool
 
+from nubot_common.json_text import strict_json
 from nubot_common.msg import CoachInfo, GoalEvent, HardwareStatus, ModelStates, OdoInfo, VelCmd
 from nubot_common.packages import package_path
 from nubot_common.processes import RosMaster
@@ -67,7 +67,7 @@ def main() -> int:
         result["log"] = log.read_text()[-6000:] if log.exists() else ""
     finally:
         shutil.rmtree(logs, ignore_errors=True)  # what is wanted of it is in the result
-    args.out.write_text(json.dumps(result, indent=1) + "\n")
+    args.out.write_text(strict_json(result, indent=1))
     return 0
 
 

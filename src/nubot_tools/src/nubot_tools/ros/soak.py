@@ -17,12 +17,12 @@ verdict from a soak's saved ``resources.json`` without playing again.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
 from rosbags.rosbag1 import Reader
 
+from nubot_common.json_text import strict_json
 from nubot_tools import resources
 from nubot_tools.ros import match_runner
 from nubot_tools.workspace import SOAK
@@ -82,7 +82,7 @@ def main(argv: list[str] | None = None) -> int:
                "recorder": {"messages": messages, "rss_growth_mib": round(index_growth, 1),
                             "bytes_per_message": per_message, "bound_bytes_per_message": args.recorder_bytes},
                "slopes": slopes}
-    (args.out / "soak.json").write_text(json.dumps(verdict, indent=2) + "\n")
+    (args.out / "soak.json").write_text(strict_json(verdict, indent=2))
     resources.plot_resources(samples, args.out / "soak.png", args.warmup,
                              f"Soak: {len(slopes)} processes, 2 x {args.half_seconds:.0f} s "
                              f"(worst slope {verdict['worst_slope_mib_per_min']} MiB/min)")
