@@ -22,6 +22,7 @@ from coach4sim.params import COACH_PERIODS, TeamSpec
 from nubot_common import NubotCommonError
 from nubot_common.field import FieldGeometry
 from nubot_common.match_mode import MatchMode, parse_match_mode
+from nubot_common.naming import parse_robot_name
 
 COMMAND_SERVICE = "/referee/command"
 STATE_TOPIC = "/referee/state"
@@ -100,6 +101,10 @@ def parse_args(argv: Sequence[str]) -> CoachArgs:
     if ns.console:
         return CoachArgs("console", **common)
     if ns.watch:
+        try:
+            parse_robot_name(ns.watch)  # a name no topic can carry would leave the watch waiting forever
+        except NubotCommonError as exc:
+            raise CoachUsageError(f"--watch: {exc}") from None
         return CoachArgs("watch", robot=ns.watch, **common)
     try:
         mode = parse_match_mode(ns.command)

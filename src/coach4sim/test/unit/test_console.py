@@ -51,6 +51,8 @@ def test_console_and_watch_modes():
     (["1", "--period", "0.001"], r"--period must lie in \[0.005, 10\] s, got 0.001$"),
     (["1", "--period", "inf"], r"--period must lie in \[0.005, 10\] s, got inf$"),
     (["1", "--bogus"], "unrecognized arguments: --bogus"),
+    (["--watch", "no such/robot"], r"--watch: a robot name is a team prefix and an AgentID from 1"),  # once: FATAL,
+    (["--watch", "nubot0"], r"--watch: a robot name is a team prefix and an AgentID from 1"),  # then a hang
 ])
 def test_bad_usage_is_refused_with_a_clear_message(argv, message):
     with pytest.raises(CoachUsageError, match=message):
