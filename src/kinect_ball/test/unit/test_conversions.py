@@ -65,6 +65,7 @@ def _msg(**changes):
     ({"data": b"\x00" * 100}, "needs 192 B, got 100"),
     ({"row_step": 10}, "row_step 10 B is shorter"),
     ({"height": 3000, "width": 3000}, "over the limit"),
+    ({"height": 1000, "width": 2000}, "cloud of 2000000 points is over the limit of 307200"),  # once taken (676 MiB)
 ])
 def test_a_bad_cloud_is_refused_with_its_reason(changes, match):
     with pytest.raises(NubotCommonError, match=match):

@@ -20,7 +20,8 @@ from nubot_common.arrays import FloatArray
 FLOAT32, FLOAT64, UINT32 = 7, 8, 6  # sensor_msgs/PointField datatypes
 _XYZ_TYPES = {FLOAT32: "<f4", FLOAT64: "<f8"}
 _COLOR_FIELDS = ("rgb", "rgba")
-MAX_POINTS = 4_000_000  # a cloud with more points than this is refused (a Kinect 2 gives 217 k)
+MAX_POINTS = 640 * 480  # a cloud with more points is refused, before any is read (a Kinect gives 307 k at most, a
+# Kinect 2 217 k, the simulated goalie's cameras 13.6 k): a peer cannot make the node hold hundreds of MiB
 
 
 @dataclass(frozen=True)

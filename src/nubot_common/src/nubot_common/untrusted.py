@@ -1,16 +1,22 @@
-"""JSON from a peer (the RefBox, a browser page): decoded whole or refused with one error, never another exception.
+"""Input from outside (a peer's JSON: the RefBox, a browser page; a file from elsewhere): taken whole or refused
+with one error, never another exception, and never a size it declares read before it is checked.
 
-Requires: nothing but the standard library. Provides: ``json_object(raw, max_depth)`` -> the decoded JSON object, or
+Requires: numpy. Provides: ``json_object(raw, max_depth)`` -> the decoded JSON object, or
 ``UntrustedInputError`` (a ``NubotCommonError``) naming what is wrong: not UTF-8, malformed, nested deeper than
 ``max_depth`` (checked before decoding: a message nested 40,000 deep would exhaust the decoder's recursion), a
 number too long to convert (an integer of over 4,300 digits, Python's limit), ``NaN`` or ``Infinity`` (not JSON),
-or a JSON value that is not an object.
+or a JSON value that is not an object; and ``declared_arrays(path)``, what a ``.npz`` file's arrays declare they are,
+read before any is loaded.
 """
 
 from __future__ import annotations
 
 import json
+import os
+import zipfile
 from typing import Any
+
+import numpy as np
 
 from nubot_common import NubotCommonError
 
@@ -75,3 +81,24 @@ def json_object(raw: bytes | str, max_depth: int = MAX_DEPTH) -> dict[str, Any]:
     if not isinstance(message, dict):
         raise UntrustedInputError(f"JSON {type(message).__name__}, not an object: {excerpt(text)}")
     return message
+
+
+def declared_arrays(path: str | os.PathLike[str]) -> dict[str, tuple[tuple[int, ...], np.dtype[Any]]]:
+    """Each array of a ``.npz`` archive with the shape and type its header declares, read without loading any
+    array: a 2 MB file may declare a 2 GB array, to be refused before it is read. Raises ``UntrustedInputError``
+    for a file that is no such archive."""
+    arrays: dict[str, tuple[tuple[int, ...], np.dtype[Any]]] = {}
+    npy: Any = np.lib.format  # (untyped in numpy's stubs)
+    try:
+        with zipfile.ZipFile(path) as archive:
+            for member in archive.namelist():
+                if not member.endswith(".npy"):
+                    continue
+                with archive.open(member) as stream:
+                    major, _minor = npy.read_magic(stream)
+                    read = npy.read_array_header_1_0 if major == 1 else npy.read_array_header_2_0
+                    shape, _fortran, dtype = read(stream)
+                arrays[member.removesuffix(".npy")] = (tuple(shape), dtype)
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+        raise UntrustedInputError(f"not an array archive (.npz): {exc}") from None
+    return arrays

@@ -40,6 +40,7 @@ from scipy import ndimage
 
 from nubot_common.color_class import ColorClass
 from nubot_common.mirror import MirrorModel
+from nubot_common.untrusted import UntrustedInputError, declared_arrays
 from omni_vision import OmniVisionError
 
 TABLE_BITS = 6  # bits kept per channel: the table's index is (Y >> 2, U >> 2, V >> 2)
@@ -259,6 +260,17 @@ class ColorTable:
             raise OmniVisionError(f"{where}: cannot read it ({error.strerror or error})") from error
         if size == 0:
             raise OmniVisionError(f"{where}: the file is empty")
+        try:  # what the arrays declare, before any is read: a small file may declare a huge array
+            declared = declared_arrays(path) if zipfile.is_zipfile(path) else {}
+        except UntrustedInputError as error:
+            raise OmniVisionError(f"{where}: truncated or not a colour table archive (.npz): {error}") from error
+        for name, shape in {"table": TABLE_SHAPE, "labelled_pixels": (_CLASSES,), "format_version": ()}.items():
+            if name not in declared:
+                continue
+            found, dtype = declared[name]
+            if found != shape or dtype.itemsize > 8:
+                raise OmniVisionError(f"{where}: {name} must have shape {shape}, got {found} of {dtype.str} "
+                                      "declared; not read")
         try:
             archive = np.load(path, allow_pickle=False)
             if not isinstance(archive, np.lib.npyio.NpzFile):

@@ -1,5 +1,8 @@
 """The colour table (calibration, lookup, file) and the frame's entry check."""
 
+import io
+import zipfile
+
 import cv2
 import numpy as np
 import pytest
@@ -123,6 +126,17 @@ def _write_array(path, array):
         np.save(stream, array)
 
 
+def _write_huge_declaration(path):
+    """A small file whose table declares 2 GiB (its data cut short): once read whole before its shape was checked."""
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(header, {"descr": "|u1", "fortran_order": False, "shape": (2048, 1024, 1024)})
+    with zipfile.ZipFile(path, "w") as archive:
+        for name, array in _good(table=None).items():
+            with archive.open(f"{name}.npy", "w") as member:
+                np.save(member, array)
+        archive.writestr("table.npy", header.getvalue() + bytes(1 << 20))
+
+
 def _good(**changes):
     arrays = {"format_version": np.int64(1), "table": np.zeros(TABLE_SHAPE, np.uint8),
               "labelled_pixels": np.zeros(len(ColorClass), np.int64)}
@@ -142,6 +156,7 @@ def _good(**changes):
     (lambda p: _write(p, **_good(table=np.zeros(TABLE_SHAPE, np.int32))), "must be uint8"),
     (lambda p: _write(p, **_good(table=np.full(TABLE_SHAPE, 9, np.uint8))), "ColorClass values 0-4, found 9"),
     (lambda p: _write(p, **_good(labelled_pixels=np.array([-1, 0, 0, 0, 0]))), "non-negative"),
+    (_write_huge_declaration, r"table must have shape \(64, 64, 64\), got \(2048, 1024, 1024\) of \|u1 declared"),
 ])
 def test_loading_a_bad_table_file_names_the_file_and_the_problem(tmp_path, make, message):
     """An empty, missing, foreign, truncated, wrong-shaped, wrong-typed or out-of-range file is refused with an
