@@ -25,6 +25,7 @@ COACH_CHANNEL = "NUBOT_COACH_{team}"
 MAX_AGENT_ID = 5  # an MSL team fields five robots
 MAX_TEAM_NAME = 32  # [characters]
 MAX_OBSTACLES = 32  # per list of a packet: more than every other robot on the field and then some
+MAX_MAGNITUDE = 1e5  # no float a robot or a coach sends is larger (positions within 100 km, times under a day)
 MAX_PACKET_BYTES = 2048  # a team packet at every limit is about 1.2 kB; anything larger is no packet of ours
 UINT32_MAX = 2**32 - 1
 
@@ -45,6 +46,7 @@ class DropReason(enum.Enum):
     OWN_AGENT = "own_agent"  # our own AgentID, sent by another link (two robots configured as one)
     DUPLICATE = "duplicate"  # the sender's sequence number heard before
     STALE = "stale"  # older than what the sender was last heard sending (reordered, or a session before)
+    CLOCK = "clock"  # sent further than max_clock_skew from the receiver's clock: a clock gone wrong, or forged
 
 
 class PacketDropped(NubotCommError):
@@ -148,11 +150,12 @@ def _check_range(name: str, value: int, low: int, high: int | None) -> None:
 
 
 def _check_finite(obj: Any, where: str) -> None:
-    """Every float of an LCM struct, nested structs and arrays included, must be finite."""
+    """Every float of an LCM struct, nested structs and arrays included, must be finite and at most
+    ``MAX_MAGNITUDE`` in size (a position of 1e30 m is no robot's)."""
     for name, typename in zip(obj.__slots__, obj.__typenames__):
         value = getattr(obj, name)
         if typename in ("float", "double"):
-            if not math.isfinite(value):
+            if not math.isfinite(value) or abs(value) > MAX_MAGNITUDE:
                 _invalid(f"{where}{name} is {value}")
         elif typename.startswith("nubot_lcm."):
             for i, item in enumerate(value) if isinstance(value, list) else ((None, value),):

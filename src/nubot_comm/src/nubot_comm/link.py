@@ -7,8 +7,11 @@ Provides: ``TeamLink``, which
 - hears every channel of the group and keeps, per member, the latest team packet (``teammates``: those heard
   within ``max_age`` [s], its own included) and the latest coach packet not yet taken (``take_coach``);
 - drops, counts per ``DropReason`` and never raises on: other channels, other types, malformed, invalid or
-  oversized payloads, packets naming another team, AgentIDs beyond the team, duplicates and stale packets
-  (``stats``);
+  oversized payloads, packets naming another team, AgentIDs beyond the team, duplicates and stale packets, and
+  packets stamped further than ``max_clock_skew`` [s] from its own clock, in either direction (``stats``);
+- orders each sender's packets by its session and sequence number; a new session (a restarted sender) is taken
+  when it was sent after the last one heard, or once the last one has been silent for ``max_age``: so no packet,
+  however stamped, keeps a member out for longer than that;
 - hands every packet it takes to ``on_accept`` (in the receiving thread; it must not raise), e.g. to time it;
 - runs ``lcm.handle_timeout`` in a thread of its own (``start``/``close``), or one call at a time (``handle``).
 The latest packet per member is kept by ``nubot_comm.relay.TeamRelay``, the relay the simulation uses too.
@@ -40,6 +43,7 @@ from nubot_comm.codec import (
 from nubot_comm.relay import TeamRelay
 from nubot_lcm import coach_packet_t, team_packet_t
 
+MAX_CLOCK_SKEW = 60.0  # [s] the robots' and the coach's clocks agree within this (chrony/NTP keeps them to ms)
 HANDLE_TIMEOUT = 0.1  # [s] the receiving thread looks at its stop flag this often
 SESSION_BITS = 62  # sessions are positive int64
 
@@ -64,9 +68,11 @@ class _LastHeard:
     session: int
     seq: int
     sent_ns: int
+    heard: float  # [s] on the receiver's clock
 
 
-def _newer(last: _LastHeard | None, packet: team_packet_t | coach_packet_t) -> DropReason | None:
+def _newer(last: _LastHeard | None, packet: team_packet_t | coach_packet_t, now: float,
+           max_age: float) -> DropReason | None:
     """None if ``packet`` follows what its sender was last heard sending, else why it does not."""
     if last is None:
         return None
@@ -74,7 +80,9 @@ def _newer(last: _LastHeard | None, packet: team_packet_t | coach_packet_t) -> D
         if packet.seq == last.seq:
             return DropReason.DUPLICATE
         return DropReason.STALE if packet.seq < last.seq else None
-    return None if packet.sent_ns > last.sent_ns else DropReason.STALE  # a restarted sender's new session
+    if packet.sent_ns > last.sent_ns or now - last.heard >= max_age:  # a restarted sender's new session
+        return None
+    return DropReason.STALE
 
 
 class TeamLink:
@@ -82,7 +90,8 @@ class TeamLink:
 
     def __init__(self, lcm: Any, team: str, agent_id: int, team_size: int = MAX_AGENT_ID, max_age: float = 1.0,
                  clock: Callable[[], float] = time.monotonic, wall_ns: Callable[[], int] = time.time_ns,
-                 session: int | None = None, on_accept: Callable[[team_packet_t | coach_packet_t], None] | None = None):
+                 session: int | None = None, on_accept: Callable[[team_packet_t | coach_packet_t], None] | None = None,
+                 max_clock_skew: float = MAX_CLOCK_SKEW):
         check_team_name(team)
         if not 1 <= team_size <= MAX_AGENT_ID:
             raise NubotCommError(f"team_size must lie in [1, {MAX_AGENT_ID}], got {team_size}")
@@ -90,6 +99,9 @@ class TeamLink:
             raise NubotCommError(f"agent_id must be 0 (the coach) or an AgentID 1..{team_size}, got {agent_id}")
         if not max_age > 0.0:
             raise NubotCommError(f"max_age must be positive, got {max_age}")
+        if not 0.0 < max_clock_skew <= 86400.0:
+            raise NubotCommError(f"max_clock_skew must lie in (0, 86400] s, got {max_clock_skew}")
+        self.max_age, self.max_clock_skew = max_age, max_clock_skew
         self.team, self.agent_id, self.team_size = team, agent_id, team_size
         self.team_channel, self.coach_channel = team_channel(team), coach_channel(team)
         self.session = session if session is not None else secrets.randbits(SESSION_BITS) + 1
@@ -145,7 +157,7 @@ class TeamLink:
             except PacketDropped as exc:
                 raise NubotCommError(f"not sent, the robots would drop it: {exc}") from None
             self._publish(self.coach_channel, packet)
-            self._last_coach = _LastHeard(packet.session, packet.seq, packet.sent_ns)
+            self._last_coach = _LastHeard(packet.session, packet.seq, packet.sent_ns, self._clock())
         return packet
 
     def _envelope(self, packet: team_packet_t | coach_packet_t) -> None:
@@ -183,11 +195,13 @@ class TeamLink:
                 self._echoes += 1
                 return
             raise PacketDropped(DropReason.OWN_AGENT, f"session {packet.session}")
+        self._check_clock(packet)
+        now = self._clock()
         last = self._last.get(packet.agent_id)
-        refused = _newer(last, packet)
+        refused = _newer(last, packet, now, self.max_age)
         if refused is not None:
             raise PacketDropped(refused, f"AgentID {packet.agent_id} seq {packet.seq}")
-        self._last[packet.agent_id] = _LastHeard(packet.session, packet.seq, packet.sent_ns)
+        self._last[packet.agent_id] = _LastHeard(packet.session, packet.seq, packet.sent_ns, now)
         self._relay.put(self._members[packet.agent_id - 1], self._clock(), packet)
         self._accept(packet)
 
@@ -197,12 +211,19 @@ class TeamLink:
         if packet.session == self.session:
             self._echoes += 1
             return
-        refused = _newer(self._last_coach, packet)
+        self._check_clock(packet)
+        now = self._clock()
+        refused = _newer(self._last_coach, packet, now, self.max_age)
         if refused is not None:
             raise PacketDropped(refused, f"coach seq {packet.seq}")
-        self._last_coach = _LastHeard(packet.session, packet.seq, packet.sent_ns)
+        self._last_coach = _LastHeard(packet.session, packet.seq, packet.sent_ns, now)
         self._coach = packet
         self._accept(packet)
+
+    def _check_clock(self, packet: team_packet_t | coach_packet_t) -> None:
+        off = (packet.sent_ns - self._wall_ns()) / 1e9
+        if abs(off) > self.max_clock_skew:
+            raise PacketDropped(DropReason.CLOCK, f"sent {off:+.1f} s from this robot's clock")
 
     def _accept(self, packet: team_packet_t | coach_packet_t) -> None:
         self._accepted += 1

@@ -26,6 +26,8 @@ class TeamLinkParams(RobotNodeParams):
     lcm_url: str = DEFAULT_URL  # LCM provider; udpm://group:port?ttl=1 keeps packets on the robots' LAN
     rate: float = 30.0  # the robot's packet out, teammates and strategies published [Hz]
     max_age: float = 1.0  # a member not heard from for this long is left out [s]
+    max_clock_skew: float = 60.0  # packets stamped further from this robot's clock are dropped [s]; the robots'
+    # and the coach's clocks must agree within it (run chrony or NTP on each)
     team_size: int = MAX_AGENT_ID  # robots in the team; AgentIDs run 1..team_size
     status_period: float = 1.0  # the link's counters on ~status [s]
     log_period: float = 10.0  # new drops are logged at most this often [s]
@@ -40,7 +42,9 @@ class TeamLinkParams(RobotNodeParams):
             raise ValueError(f"team_size must lie in [1, {MAX_AGENT_ID}], got {self.team_size}")
         if not self.coach and self.agent > self.team_size:
             raise ValueError(f"AgentID {self.agent} of {self.robot} is beyond team_size {self.team_size}")
-        require_positive(self, "rate", "max_age", "status_period", "log_period")
+        require_positive(self, "rate", "max_age", "status_period", "log_period", "max_clock_skew")
+        if not self.max_clock_skew <= 86400.0:
+            raise ValueError(f"max_clock_skew must be at most 86400 s, got {self.max_clock_skew}")
         if not self.rate <= MAX_RATE:
             raise ValueError(f"rate must be at most {MAX_RATE:g} Hz, got {self.rate}")
         if not _URL.fullmatch(self.lcm_url):

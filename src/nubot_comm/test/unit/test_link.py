@@ -149,7 +149,7 @@ def test_duplicates_and_older_sequence_numbers_are_dropped(bus):
 
 def test_a_restarted_sender_is_heard_again_and_its_old_session_is_stale(bus):
     wall = iter(range(1000, 2000, 10))
-    link = TeamLink(bus, "nubot", 1)
+    link = TeamLink(bus, "nubot", 1, wall_ns=lambda: 1500)
     before = TeamLink(bus, "nubot", 2, session=1, wall_ns=lambda: next(wall))
     late = [before.send_team(content(2, x=float(k))).encode() for k in range(5)]
     before.close()
@@ -161,6 +161,67 @@ def test_a_restarted_sender_is_heard_again_and_its_old_session_is_stale(bus):
     assert [p.robot.pos.x for p in link.teammates() if p.agent_id == 2] == [-1.0]
     assert dropped(link) == {"stale": 1}
     assert dropped(after) == {"own_agent": 6}, "the old session's packets are not the new link's own"
+
+
+NOW_NS = 1_800_000_000 * 10**9  # a wall clock for the links of a test [ns]
+
+
+def forged(agent_id: int, session: int, sent_ns: int, x: float = 9.0) -> bytes:
+    """A team packet anyone on the network could send for robot ``agent_id``."""
+    packet = content(agent_id, x=x)
+    packet.team, packet.agent_id, packet.session, packet.seq, packet.sent_ns = "nubot", agent_id, session, 0, sent_ns
+    return packet.encode()
+
+
+def test_one_future_stamped_datagram_cannot_lock_a_robot_out_of_its_team(bus):
+    """Once, a packet of a new session stamped an hour ahead was taken, and every genuine packet of that robot was
+    then dropped as stale until the receiver restarted: the robot fell out of its team."""
+    clock = Clock()
+    link = TeamLink(bus, "nubot", 1, clock=clock, wall_ns=lambda: NOW_NS)
+    robot = TeamLink(bus, "nubot", 2, clock=clock, wall_ns=lambda: NOW_NS)
+    robot.send_team(content(2, x=1.0))
+    bus.publish("NUBOT_TEAM_nubot", forged(2, 666, NOW_NS + 3600 * 10**9))  # an hour ahead: a clock fault
+    bus.publish("NUBOT_TEAM_nubot", forged(2, 667, NOW_NS - 3600 * 10**9))  # an hour old: a replay
+    robot.send_team(content(2, x=2.0))
+    pump(bus)
+    assert dropped(link) == {"clock": 2}
+    assert [p.robot.pos.x for p in link.teammates() if p.agent_id == 2] == [2.0]
+    # Stamped within the clocks' tolerance (30 s ahead), a forged session is taken, but holds the robot's own
+    # packets back only while it keeps coming: max_age after its last one, the genuine session is heard again.
+    bus.publish("NUBOT_TEAM_nubot", forged(2, 668, NOW_NS + 30 * 10**9, x=9.0))
+    robot.send_team(content(2, x=3.0))
+    pump(bus)
+    assert [p.robot.pos.x for p in link.teammates() if p.agent_id == 2] == [9.0]
+    clock.now += link.max_age
+    robot.send_team(content(2, x=4.0))
+    pump(bus)
+    assert [p.robot.pos.x for p in link.teammates() if p.agent_id == 2] == [4.0]
+
+
+def test_one_future_stamped_datagram_cannot_cut_a_team_off_its_coach(bus):
+    clock = Clock()
+    robot = TeamLink(bus, "nubot", 1, clock=clock, wall_ns=lambda: NOW_NS)
+    coach = TeamLink(bus, "nubot", 0, clock=clock, wall_ns=lambda: NOW_NS)
+    fake = coach_packet_t()
+    fake.team, fake.session, fake.seq, fake.sent_ns = "nubot", 5, 0, NOW_NS + 20 * 10**9
+    fake.coach.MatchMode = 0
+    bus.publish("NUBOT_COACH_nubot", fake.encode())
+    pump(bus)
+    assert robot.take_coach().coach.MatchMode == 0  # within the tolerance: taken (a signed link refuses it)
+    clock.now += robot.max_age
+    command = coach_packet_t()
+    command.coach.MatchMode = 15
+    coach.send_coach(command)
+    pump(bus)
+    taken = robot.take_coach()
+    assert taken is not None and taken.coach.MatchMode == 15
+
+
+def test_a_position_of_1e30_m_is_invalid(bus):
+    link = TeamLink(bus, "nubot", 1, wall_ns=lambda: NOW_NS)
+    bus.publish("NUBOT_TEAM_nubot", forged(2, 7, NOW_NS, x=1e30))
+    pump(bus)
+    assert dropped(link) == {"invalid": 1} and link.teammates() == []
 
 
 def test_another_link_sending_as_our_agent_is_counted(bus):

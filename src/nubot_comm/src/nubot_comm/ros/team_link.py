@@ -28,7 +28,7 @@ class TeamLinkNode:
         """Raises ``NubotCommError`` when the link cannot be opened."""
         self.params, team = params, params.team_name
         self.link = TeamLink.open(params.lcm_url, team, params.link_agent, team_size=params.team_size,
-                                  max_age=params.max_age)
+                                  max_age=params.max_age, max_clock_skew=params.max_clock_skew)
         self.own: OwnState[TeamMessage, StrategyInfo] = OwnState(params.max_age)
         self.drops = DropReport(self.link.stats(), params.log_period)
         self.status_pub = publisher("~status", TeamLinkStatus)
