@@ -46,6 +46,7 @@ class DropReason(enum.Enum):
     OWN_AGENT = "own_agent"  # our own AgentID, sent by another link (two robots configured as one)
     DUPLICATE = "duplicate"  # the sender's sequence number heard before
     STALE = "stale"  # older than what the sender was last heard sending (reordered, or a session before)
+    SIGNATURE = "signature"  # the link has the team's key, and the datagram carries no valid tag of it
     CLOCK = "clock"  # sent further than max_clock_skew from the receiver's clock: a clock gone wrong, or forged
 
 

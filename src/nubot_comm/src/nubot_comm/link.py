@@ -12,6 +12,8 @@ Provides: ``TeamLink``, which
 - orders each sender's packets by its session and sequence number; a new session (a restarted sender) is taken
   when it was sent after the last one heard, or once the last one has been silent for ``max_age``: so no packet,
   however stamped, keeps a member out for longer than that;
+- with the team's shared ``key`` (``nubot_comm.signing``), signs every datagram it sends and takes only datagrams
+  signed with it;
 - hands every packet it takes to ``on_accept`` (in the receiving thread; it must not raise), e.g. to time it;
 - runs ``lcm.handle_timeout`` in a thread of its own (``start``/``close``), or one call at a time (``handle``).
 The latest packet per member is kept by ``nubot_comm.relay.TeamRelay``, the relay the simulation uses too.
@@ -41,6 +43,7 @@ from nubot_comm.codec import (
     team_channel,
 )
 from nubot_comm.relay import TeamRelay
+from nubot_comm.signing import MIN_KEY_BYTES, sign, verify
 from nubot_lcm import coach_packet_t, team_packet_t
 
 MAX_CLOCK_SKEW = 60.0  # [s] the robots' and the coach's clocks agree within this (chrony/NTP keeps them to ms)
@@ -91,7 +94,7 @@ class TeamLink:
     def __init__(self, lcm: Any, team: str, agent_id: int, team_size: int = MAX_AGENT_ID, max_age: float = 1.0,
                  clock: Callable[[], float] = time.monotonic, wall_ns: Callable[[], int] = time.time_ns,
                  session: int | None = None, on_accept: Callable[[team_packet_t | coach_packet_t], None] | None = None,
-                 max_clock_skew: float = MAX_CLOCK_SKEW):
+                 max_clock_skew: float = MAX_CLOCK_SKEW, key: bytes | None = None):
         check_team_name(team)
         if not 1 <= team_size <= MAX_AGENT_ID:
             raise NubotCommError(f"team_size must lie in [1, {MAX_AGENT_ID}], got {team_size}")
@@ -101,7 +104,10 @@ class TeamLink:
             raise NubotCommError(f"max_age must be positive, got {max_age}")
         if not 0.0 < max_clock_skew <= 86400.0:
             raise NubotCommError(f"max_clock_skew must lie in (0, 86400] s, got {max_clock_skew}")
+        if key is not None and len(key) < MIN_KEY_BYTES:
+            raise NubotCommError(f"a team key has at least {MIN_KEY_BYTES} bytes, got {len(key)}")
         self.max_age, self.max_clock_skew = max_age, max_clock_skew
+        self._key = key  # the team's shared key: datagrams signed, and only signed ones taken
         self.team, self.agent_id, self.team_size = team, agent_id, team_size
         self.team_channel, self.coach_channel = team_channel(team), coach_channel(team)
         self.session = session if session is not None else secrets.randbits(SESSION_BITS) + 1
@@ -164,7 +170,8 @@ class TeamLink:
         packet.team, packet.session, packet.seq, packet.sent_ns = self.team, self.session, self._seq, self._wall_ns()
 
     def _publish(self, channel: str, packet: team_packet_t | coach_packet_t) -> None:
-        self._lcm.publish(channel, packet.encode())
+        data = packet.encode()
+        self._lcm.publish(channel, data if self._key is None else sign(self._key, channel, data))
         self._seq += 1
         self._sent += 1
 
@@ -174,12 +181,17 @@ class TeamLink:
         with self._lock:
             self._heard += 1
             try:
+                if channel not in (self.team_channel, self.coach_channel):
+                    raise PacketDropped(DropReason.FOREIGN_CHANNEL, channel)
+                if self._key is not None:
+                    signed = verify(self._key, channel, data)
+                    if signed is None:
+                        raise PacketDropped(DropReason.SIGNATURE, f"{len(data)} bytes on {channel}")
+                    data = signed
                 if channel == self.team_channel:
                     self._take_team(decode_team(data))
-                elif channel == self.coach_channel:
-                    self._take_coach(decode_coach(data))
                 else:
-                    raise PacketDropped(DropReason.FOREIGN_CHANNEL, channel)
+                    self._take_coach(decode_coach(data))
             except PacketDropped as exc:
                 self._dropped[exc.reason] += 1
             except Exception:  # noqa: BLE001 - a datagram must never stop the link; count it as unreadable

@@ -26,6 +26,8 @@ class TeamLinkParams(RobotNodeParams):
     lcm_url: str = DEFAULT_URL  # LCM provider; udpm://group:port?ttl=1 keeps packets on the robots' LAN
     rate: float = 30.0  # the robot's packet out, teammates and strategies published [Hz]
     max_age: float = 1.0  # a member not heard from for this long is left out [s]
+    key_file: str = ""  # the team's shared key (nubot_comm.signing): datagrams signed and only signed ones taken;
+    # "" = unsigned, as the original team link
     max_clock_skew: float = 60.0  # packets stamped further from this robot's clock are dropped [s]; the robots'
     # and the coach's clocks must agree within it (run chrony or NTP on each)
     team_size: int = MAX_AGENT_ID  # robots in the team; AgentIDs run 1..team_size

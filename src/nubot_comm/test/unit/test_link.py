@@ -9,8 +9,9 @@ import lcm
 import pytest
 
 from nubot_comm import NubotCommError
-from nubot_comm.codec import MAX_PACKET_BYTES
+from nubot_comm.codec import MAX_PACKET_BYTES, decode_team
 from nubot_comm.link import TeamLink
+from nubot_comm.signing import verify
 from nubot_lcm import coach_info_t, coach_packet_t, team_packet_t
 
 
@@ -314,3 +315,32 @@ def test_the_receiving_thread_takes_packets_and_stops_promptly(bus):
     receiver.close()
     assert time.monotonic() - start < 0.5
     receiver.close()  # twice is harmless
+
+
+KEY = b"the team's shared secret, 32 b!!"
+
+
+def test_with_the_teams_key_only_signed_datagrams_are_taken_and_replays_are_refused(bus):
+    """Anyone on the network could speak for a robot or the coach: with a key set, an unsigned datagram, one signed
+    with another key, one changed on the way and a replayed one are each refused and counted."""
+    link = TeamLink(bus, "nubot", 1, key=KEY)
+    robot = TeamLink(bus, "nubot", 2, key=KEY)
+    stranger = TeamLink(bus, "nubot", 3)  # no key
+    impostor = TeamLink(bus, "nubot", 4, key=b"another team's key, also 32 b!!!")
+    sent: list[bytes] = []
+    bus.subscribe("NUBOT_TEAM_nubot", lambda _channel, data: sent.append(data))
+    robot.send_team(content(2, x=1.0))
+    stranger.send_team(content(3, x=3.0))
+    impostor.send_team(content(4, x=4.0))
+    pump(bus)
+    genuine = sent[0]
+    changed = bytearray(genuine)
+    changed[40] ^= 0x01
+    bus.publish("NUBOT_TEAM_nubot", bytes(changed))  # one bit flipped
+    bus.publish("NUBOT_TEAM_nubot", genuine)  # replayed
+    bus.publish("NUBOT_COACH_nubot", genuine)  # the robot's signed bytes on the coach's channel
+    pump(bus)
+    assert [p.agent_id for p in link.teammates()] == [2]
+    assert dropped(link) == {"signature": 4, "duplicate": 1}
+    assert decode_team(verify(KEY, "NUBOT_TEAM_nubot", genuine)).robot.pos.x == 1.0  # the message, then its tag
+    assert dropped(stranger)["malformed"] >= 3, "a link without the key cannot read signed datagrams either"

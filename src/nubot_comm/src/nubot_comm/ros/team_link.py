@@ -12,6 +12,7 @@ from nubot_comm import conversions as conv
 from nubot_comm.link import TeamLink
 from nubot_comm.params import TeamLinkParams
 from nubot_comm.reports import DropReport, OwnState
+from nubot_comm.signing import load_key
 from nubot_common.msg import (
     CoachInfo,
     StrategyInfo,
@@ -27,8 +28,9 @@ class TeamLinkNode:
     def __init__(self, params: TeamLinkParams):
         """Raises ``NubotCommError`` when the link cannot be opened."""
         self.params, team = params, params.team_name
+        key = load_key(params.key_file) if params.key_file else None
         self.link = TeamLink.open(params.lcm_url, team, params.link_agent, team_size=params.team_size,
-                                  max_age=params.max_age, max_clock_skew=params.max_clock_skew)
+                                  max_age=params.max_age, max_clock_skew=params.max_clock_skew, key=key)
         self.own: OwnState[TeamMessage, StrategyInfo] = OwnState(params.max_age)
         self.drops = DropReport(self.link.stats(), params.log_period)
         self.status_pub = publisher("~status", TeamLinkStatus)
@@ -49,8 +51,8 @@ class TeamLinkNode:
         self.status_timer = timer(params.status_period, self.on_status)
         self.link.start()
         rospy.on_shutdown(self.link.close)
-        rospy.loginfo("team_link: %s on %s (channels %s, %s)", what, params.lcm_url, self.link.team_channel,
-                      self.link.coach_channel)
+        rospy.loginfo("team_link: %s on %s (channels %s, %s), %s", what, params.lcm_url, self.link.team_channel,
+                      self.link.coach_channel, f"signed with {params.key_file}" if key else "unsigned (no key_file)")
 
     def on_coach_command(self, msg: CoachInfo) -> None:
         try:

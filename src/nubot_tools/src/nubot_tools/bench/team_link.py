@@ -10,6 +10,7 @@ leaves the loopback of the namespaces it makes.
   [ms]; delivery = packets taken / sent.
 - CPU: one team_link node (nubot1, its roscore in the namespace) fed its world model and strategy at 30 Hz by
   ``rostopic pub``, hearing four teammates' links at 30 Hz, over ``--seconds``: cores and RSS.
+- Signing: what the team key costs a packet (``nubot_comm.signing``): HMAC-SHA256 to sign and to check [us].
 Provides: ``<out>/team_link.json`` and ``<out>/team_link.png`` (latency distribution per loss).
 """
 
@@ -28,6 +29,7 @@ import psutil
 from nubot_comm import netns
 from nubot_comm.codec import DEFAULT_URL
 from nubot_comm.link import TeamLink
+from nubot_comm.signing import sign, verify
 from nubot_common.json_text import strict_json
 from nubot_common.processes import RosMaster, wait_until
 from nubot_lcm import coach_packet_t, team_packet_t
@@ -46,6 +48,23 @@ def content(agent_id: int) -> team_packet_t:
     packet.obstacles.polar_pos = [type(packet.ball.real_pos)() for _ in range(5)]
     packet.obstacles.num_pos = packet.obstacles.num_polar_pos = 5
     return packet
+
+
+def measure_signing(packets: int = 20000) -> dict:
+    """What the team key costs a packet: signing it (sender) and checking it (each receiver), on one core [us]."""
+    data = content(1).encode()
+    key = b"a team key of 32 bytes, for test"
+    signed = sign(key, "NUBOT_TEAM_nubot", data)
+    started = time.perf_counter()
+    for _ in range(packets):
+        sign(key, "NUBOT_TEAM_nubot", data)
+    signing = time.perf_counter() - started
+    started = time.perf_counter()
+    for _ in range(packets):
+        verify(key, "NUBOT_TEAM_nubot", signed)
+    checking = time.perf_counter() - started
+    return {"packet_bytes": len(data), "tag_bytes": len(signed) - len(data),
+            "sign_us": round(signing / packets * 1e6, 2), "verify_us": round(checking / packets * 1e6, 2)}
 
 
 def measure_latency(ns: netns.NetNamespace, loss: int, seconds: float, rate: float) -> dict:
@@ -156,6 +175,9 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if not args.seconds > 0 or not args.rate > 0:
         parser.error("--seconds and --rate must be positive")
+    signing = measure_signing()
+    print(f"team key: {signing['sign_us']} us to sign a {signing['packet_bytes']}-byte packet, "
+          f"{signing['verify_us']} us to check it", flush=True)
     why = netns.unavailable()
     if why is not None:
         print(f"[bench] team link: skipped: {why}")
@@ -170,7 +192,8 @@ def main(argv: list[str] | None = None) -> int:
         with tempfile.TemporaryDirectory(prefix="bench_team_link_") as logs:
             cpu = measure_node_cpu(ns, args.seconds, Path(logs))
     result = {"url": DEFAULT_URL, "rate_hz": args.rate, "seconds": args.seconds,
-              "latency": [{k: v for k, v in row.items() if k != "latencies_ms"} for row in rows], "node": cpu}
+              "latency": [{k: v for k, v in row.items() if k != "latencies_ms"} for row in rows], "node": cpu,
+              "signing": signing}
     (args.out / "team_link.json").write_text(strict_json(result, indent=2))
     plot(rows, args.out / "team_link.png")
     for row in result["latency"]:
