@@ -12,9 +12,12 @@ or vanished browser costs nothing. The page sends JSON objects:
 - ``{"type": "watch", "robot": "<name or empty>"}``: draw what that robot believes over the truth;
 - ``{"type": "replay", "action": "play" | "pause" | "seek" | "speed", "t": s, "speed": x}``: replay only.
 
-Anything malformed or unknown gets ``{"type": "error", "message": ...}``, is logged and changes nothing.
+Anything malformed or unknown gets ``{"type": "error", "message": ...}``, is logged (a line every few seconds at
+most per peer, with the count) and changes nothing; a page may send ``MAX_COMMANDS_PER_SECOND`` commands a second.
 Bound to 127.0.0.1 unless told otherwise; on any other address commands need a token (one is made when none
-is given), which the page takes from its address (``?token=...``) and presents with each command.
+is given), which the page takes from its address (``?token=...``) and presents with each command. Served on
+loopback without a token, it answers only requests addressed to a loopback name (``Host``) and, for the WebSocket,
+from a page of one (``Origin``): a web site the browser visits cannot reach it by DNS rebinding.
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, Protocol
+from urllib.parse import urlsplit
 
 import tornado.web
 import tornado.websocket
@@ -36,12 +40,16 @@ import tornado.websocket
 from coach4sim import CoachError
 from nubot_common import NubotCommonError
 from nubot_common.match_mode import MatchMode, parse_match_mode
+from nubot_common.rejections import RejectionReporter
 from nubot_common.untrusted import UntrustedInputError, json_object
 
 ASSETS = Path(__file__).resolve().parent / "viewer_assets"
 MAX_MESSAGE = 16 * 1024  # the largest message a page may send [bytes]
 SEND_BUFFER = 16 * 1024  # the kernel's buffer towards each page [bytes] (it doubles it): a few frames at most
 ROBOT_NAME_MAX = 64
+MAX_COMMANDS_PER_SECOND = 5  # a page's game commands: a person clicks far slower
+REFUSAL_LOG_INTERVAL = 5.0  # [s] between two log lines about one peer's refused messages
+LOOPBACK_NAMES = frozenset({"localhost", "localhost.localdomain", "ip6-localhost"})
 COMMANDS = [m for m in MatchMode if m != MatchMode.TEST]  # TEST needs a test mode's points: the console's
 
 
@@ -64,7 +72,8 @@ class ViewerBackend(Protocol):
 
 
 def is_loopback(host: str) -> bool:
-    if host == "localhost":
+    host = host.strip("[]").lower()
+    if host in LOOPBACK_NAMES:
         return True
     try:
         return ipaddress.ip_address(host).is_loopback
@@ -107,6 +116,19 @@ def parse_page_message(text: str | bytes) -> dict[str, Any]:
     return message
 
 
+def _forget(future: Any) -> None:
+    """Take a finished write's outcome: a page that left makes its writes fail, which is no fault to report."""
+    if not future.cancelled():
+        future.exception()
+
+
+def _send(handler: tornado.websocket.WebSocketHandler, text: str) -> Any:
+    """Write ``text`` to the page; the write's failure, if it left meanwhile, is taken, never reported as lost."""
+    future = handler.write_message(text)
+    future.add_done_callback(_forget)
+    return future
+
+
 class _Client(tornado.websocket.WebSocketHandler):
     server: ViewerServer
 
@@ -114,6 +136,13 @@ class _Client(tornado.websocket.WebSocketHandler):
         self.server = server
         self.watch = ""
         self.sending: Any = None  # the write in flight
+        self.commands: list[float] = []  # when this page's latest commands came [s, monotonic]
+
+    def prepare(self) -> None:
+        self.server.check_host(self)
+
+    def check_origin(self, origin: str) -> bool:
+        return self.server.origin_allowed(origin, self.request.host_name) and super().check_origin(origin)
 
     def open(self, *args: str, **kwargs: str) -> None:
         self.set_nodelay(True)
@@ -121,7 +150,7 @@ class _Client(tornado.websocket.WebSocketHandler):
         if stream is not None and stream.socket is not None:  # a small send buffer: a slow page skips frames
             stream.socket.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SEND_BUFFER)  # instead of lagging
         self.server.clients.add(self)
-        self.write_message(json.dumps({"type": "hello", **self.server.hello()}))
+        _send(self, json.dumps({"type": "hello", **self.server.hello()}))
 
     def on_close(self) -> None:
         self.server.clients.discard(self)
@@ -131,27 +160,42 @@ class _Client(tornado.websocket.WebSocketHandler):
             message = parse_page_message(text)
             reply = await self.server.handle(self, message)
         except CoachError as exc:  # ViewerInputError and the backend's refusals
-            self.server.log(f"viewer: refused a message from {self.request.remote_ip}: {exc}")
+            self.server.refused(self.request.remote_ip or "?", str(exc))
             reply = {"type": "error", "message": str(exc)}
         if reply is not None and self.ws_connection is not None:
-            self.write_message(json.dumps(reply))
+            _send(self, json.dumps(reply))
 
     def push(self, text: str) -> bool:
         """Send a frame unless the last one is still on its way; True when sent."""
         if self.ws_connection is None or (self.sending is not None and not self.sending.done()):
             return False
         try:
-            self.sending = self.write_message(text)
+            self.sending = _send(self, text)
         except tornado.websocket.WebSocketClosedError:
             return False
         return True
 
 
 class _Page(tornado.web.RequestHandler):
+    def initialize(self, server: ViewerServer) -> None:
+        self.server = server
+
+    def prepare(self) -> None:
+        self.server.check_host(self)
+
     def get(self) -> None:
         self.set_header("Cache-Control", "no-store")
         self.set_header("Content-Type", "text/html; charset=utf-8")
         self.write((ASSETS / "index.html").read_bytes())
+
+
+class _Static(tornado.web.StaticFileHandler):
+    def initialize(self, path: str, server: ViewerServer) -> None:
+        super().initialize(path)
+        self.server = server
+
+    def prepare(self) -> None:
+        self.server.check_host(self)
 
 
 class ViewerServer:
@@ -164,6 +208,7 @@ class ViewerServer:
         self.backend, self.host, self.port, self.rate, self.log = backend, host, port, rate, log
         self.token = token or ("" if is_loopback(host) else secrets.token_urlsafe(12))
         self.clients: set[_Client] = set()
+        self.refusals = RejectionReporter(REFUSAL_LOG_INTERVAL)
         self.frames_sent = 0
         self.frames_skipped = 0
         self._stop: asyncio.Event | None = None
@@ -171,8 +216,37 @@ class ViewerServer:
 
     @property
     def url(self) -> str:
-        host = f"[{self.host}]" if ":" in self.host else self.host
+        """The page's address; served on every interface (0.0.0.0, ::), by this machine's name, which other machines
+        can open (the wildcard address no machine can)."""
+        host = socket.gethostname() if self.host in ("0.0.0.0", "::", "") else self.host
+        host = f"[{host}]" if ":" in host else host
         return f"http://{host}:{self.port}/" + (f"?token={self.token}" if self.token else "")
+
+    @property
+    def open_to_loopback_only(self) -> bool:
+        """Served on loopback without a token: only loopback names may be addressed."""
+        return not self.token and is_loopback(self.host)
+
+    def check_host(self, handler: tornado.web.RequestHandler) -> None:
+        """Refuse (403) a request addressed to another name than loopback's, when loopback is all that is served
+        (a rebound DNS name would otherwise let any web site's page in)."""
+        if self.open_to_loopback_only and not is_loopback(handler.request.host_name):
+            self.refused(handler.request.remote_ip or "?", f"request for host {handler.request.host_name!r}")
+            raise tornado.web.HTTPError(403, "this viewer serves this machine's own pages only")
+
+    def origin_allowed(self, origin: str, host: str) -> bool:
+        if not self.open_to_loopback_only:
+            return True
+        try:
+            return is_loopback(urlsplit(origin).hostname or "")
+        except ValueError:
+            return False
+
+    def refused(self, peer: str, what: str) -> None:
+        """Log a refused message or request of ``peer``: the first, then a line every few seconds with the count."""
+        line = self.refusals.count(f"viewer: {peer}", "refused", what, time.monotonic())
+        if line is not None:
+            self.log(line)
 
     def hello(self) -> dict[str, Any]:
         return {**self.backend.hello(), "token_required": bool(self.token), "rate": self.rate,
@@ -180,6 +254,12 @@ class ViewerServer:
 
     async def handle(self, client: _Client, message: dict[str, Any]) -> dict[str, Any] | None:
         kind = message["type"]
+        if kind == "command":
+            now = time.monotonic()
+            client.commands = [t for t in client.commands if now - t < 1.0]
+            if len(client.commands) >= MAX_COMMANDS_PER_SECOND:
+                raise ViewerInputError(f"at most {MAX_COMMANDS_PER_SECOND} commands a second")
+            client.commands.append(now)
         if kind == "watch":
             client.watch = message.get("robot", "")
             return None
@@ -209,9 +289,9 @@ class ViewerServer:
 
     def application(self) -> tornado.web.Application:
         return tornado.web.Application([
-            (r"/", _Page),
+            (r"/", _Page, {"server": self}),
             (r"/ws", _Client, {"server": self}),
-            (r"/static/(.*)", tornado.web.StaticFileHandler, {"path": str(ASSETS)}),
+            (r"/static/(.*)", _Static, {"path": str(ASSETS), "server": self}),
         ], websocket_max_message_size=MAX_MESSAGE, websocket_ping_interval=10.0)
 
     async def run(self, ready: Callable[[str], None] | None = None) -> None:

@@ -2,12 +2,17 @@
 commands and their token, and every kind of bad message (each gets a clear error and changes nothing)."""
 
 import asyncio
+import base64
 import json
+import os
 import socket
+import struct
+import urllib.error
 import urllib.request
 from types import SimpleNamespace as NS
 
 import pytest
+import tornado.httpclient
 import tornado.websocket
 
 from coach4sim import CoachError
@@ -198,3 +203,87 @@ def test_a_taken_port_is_a_clear_error():
 def test_the_frame_rate_is_bounded():
     with pytest.raises(CoachError, match="frame rate"):
         ViewerServer(SceneBackend(), rate=500.0)
+
+
+def _get(port: int, host: str) -> int:
+    request = urllib.request.Request(f"http://127.0.0.1:{port}/", headers={"Host": host})
+    try:
+        with urllib.request.urlopen(request, timeout=5) as answer:
+            return answer.status
+    except urllib.error.HTTPError as exc:
+        return exc.code
+
+
+def test_a_loopback_viewer_answers_only_loopback_names_and_pages_against_dns_rebinding():
+    """A web site the browser visits could rebind its name to 127.0.0.1 and send game commands (neither Host nor
+    Origin was checked and loopback needs no token)."""
+    async def scenario():
+        server, task, _url = await serving(SceneBackend())
+        port = server.port
+        statuses = await asyncio.to_thread(lambda: [_get(port, h) for h in (
+            f"127.0.0.1:{port}", f"localhost:{port}", f"[::1]:{port}", f"evil.example:{port}", "attacker.test")])
+        assert statuses == [200, 200, 200, 403, 403]
+        for host, origin in ((f"evil.example:{port}", f"http://evil.example:{port}"),
+                             (f"127.0.0.1:{port}", f"http://evil.example:{port}")):
+            request = tornado.httpclient.HTTPRequest(f"ws://127.0.0.1:{port}/ws",
+                                                     headers={"Host": host, "Origin": origin})
+            with pytest.raises(tornado.httpclient.HTTPClientError, match="403"):
+                await tornado.websocket.websocket_connect(request)
+        ws, hello = await connect(server)  # a page of this machine (no Origin, or a loopback one) is served
+        assert hello["type"] == "hello"
+        ws.close()
+        server.stop()
+        await task
+    run(scenario())
+
+
+def test_a_page_may_send_a_few_commands_a_second_and_no_more():
+    async def scenario():
+        backend = SceneBackend()
+        server, task, _url = await serving(backend)
+        ws, _ = await connect(server)
+        answers = [await reply(ws, {"type": "command", "command": "STOPROBOT", "team": "nubot"}) for _ in range(7)]
+        assert [a["type"] for a in answers] == ["result"] * 5 + ["error"] * 2
+        assert "at most 5 commands a second" in answers[-1]["message"] and len(backend.commands) == 5
+        server.stop()
+        await task
+    run(scenario())
+
+
+def _slow_page(port: int) -> socket.socket:
+    """A page that opens the WebSocket and then reads nothing more, with a small receive buffer."""
+    page = socket.socket()
+    page.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 2048)
+    page.connect(("127.0.0.1", port))
+    key = base64.b64encode(os.urandom(16)).decode()
+    page.sendall(f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                 f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n".encode())
+    assert page.recv(1024).startswith(b"HTTP/1.1 101")
+    return page
+
+
+def test_pages_that_leave_while_frames_are_on_their_way_leave_no_unretrieved_errors():
+    """Each slow page that left once printed a 'Future exception was never retrieved' traceback."""
+    async def scenario():
+        lost = []
+        asyncio.get_running_loop().set_exception_handler(lambda _loop, context: lost.append(context))
+        server, task, _url = await serving(SceneBackend(), rate=60.0)
+        pages = [await asyncio.to_thread(_slow_page, server.port) for _ in range(10)]
+        await asyncio.sleep(1.5)  # they read nothing: their buffers fill and a write stays on its way
+        for page in pages:  # gone, as a closed tab or a lost network (a reset, not a goodbye)
+            page.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+            page.close()
+        await asyncio.sleep(0.5)
+        server.stop()
+        await task
+        import gc
+
+        gc.collect()  # an unretrieved future's error is reported when it is collected
+        await asyncio.sleep(0.1)
+        return lost
+    assert run(scenario()) == []
+
+
+def test_served_on_every_interface_it_names_an_address_another_machine_can_open():
+    server = ViewerServer(SceneBackend(), host="0.0.0.0", port=8080, log=lambda text: None)
+    assert server.url.startswith(f"http://{socket.gethostname()}:8080/?token=") and "0.0.0.0" not in server.url

@@ -33,6 +33,7 @@ from nubot_common.commands import KickKind
 from nubot_common.kinematics import WheelLayout
 from nubot_common.percepts import Ball3dPercept, RobotView
 from nubot_common.reconfigure import ReconfigureParam
+from nubot_common.rejections import RejectionReporter
 from nubot_common.schedule import Periodic
 from sim_visual import SimVisualError
 from sim_visual.odometry import ImuReading, OdometryReading
@@ -46,7 +47,6 @@ from sim_visual.params import (
     RobotSpawn,
     SimNodeParams,
 )
-from sim_visual.rejections import RejectionReporter
 from sim_visual.rgbd_camera import RgbdFrame
 from sim_visual.simulator import BallCaptured, BallKicked, GoalScored, SimEvent, Simulator
 from sim_visual.world import BallState, RobotState

@@ -286,7 +286,9 @@ def start_viewer(master: RosMaster, port: int, timeout: float = 20.0) -> Launche
             print(f"  watch it at {rospy.get_param('/viewer/url')}  (the live page and a coach)", flush=True)
             return viewer
         time.sleep(0.1)
-    why = viewer.log_text().strip().splitlines()[-1:] if not viewer.alive() else ["it did not start in time"]
+    lines = viewer.log_text().strip().splitlines()
+    fatal = [line.split("viewer: ", 1)[-1] for line in lines if "FATAL" in line]  # its reason, not what followed
+    why = fatal[-1:] or (lines[-1:] if not viewer.alive() else ["it did not start in time"])
     print(f"  no live page: {why[0] if why else 'the viewer ended'}; the match goes on", flush=True)
     return viewer
 

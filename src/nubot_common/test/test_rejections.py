@@ -1,10 +1,10 @@
-"""Unit tests of the throttled refusal reports (sim_visual.rejections)."""
+"""Unit tests of the throttled refusal reports (nubot_common.rejections)."""
 
 import re
 
 import pytest
 
-from sim_visual.rejections import RejectionReporter
+from nubot_common.rejections import RejectionReporter
 
 _COUNT = re.compile(r"nubot1: velocity command rejected (\d+) time\(s\) since the last report")
 
