@@ -38,3 +38,17 @@ def test_robots_and_kinds_are_counted_apart_and_a_first_refusal_is_reported_at_o
 def test_the_interval_must_be_positive():
     with pytest.raises(ValueError, match="interval must be positive, got 0"):
         RejectionReporter(0.0)
+
+
+def test_a_nodes_refusal_log_says_the_first_at_once_and_the_rest_as_a_count():
+    from nubot_common.rejections import RefusalLog
+
+    now, lines = [0.0], []
+    log = RefusalLog("omni_vision: nubot1", lines.append, interval=5.0, clock=lambda: now[0])
+    for k in range(1000):
+        log.refused("image refused", f"frame {k} is 3 x 3 px")
+    assert lines == ["omni_vision: nubot1: image refused 1 time(s) since the last report (at most one every 5 s); "
+                     "latest: frame 0 is 3 x 3 px"]
+    now[0] = 6.0
+    log.flush()
+    assert len(lines) == 2 and "999 time(s)" in lines[1] and "frame 999" in lines[1]

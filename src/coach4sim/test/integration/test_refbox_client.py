@@ -288,6 +288,19 @@ def test_malformed_and_oversized_messages_from_the_box_are_counted_and_the_link_
     assert "message from the box dropped" in log and "malformed JSON" in log
 
 
+def test_a_flood_of_unknown_commands_is_counted_in_a_line_or_two(lone_client, box):
+    """Every unknown RefBox command once had a log line of its own."""
+    watch, client = lone_client
+    start = len(client.log_text())
+    commands = watch.get("commands")
+    for k in range(100):  # changes no team's command: the next test finds the game as the one before left it
+        box.server.send(f"DANCE_{k}")
+    wait_until(lambda: watch.get("commands") >= commands + 100, 10.0, "every command taken")
+    time.sleep(0.3)
+    lines = [line for line in client.log_text()[start:].splitlines() if "unknown command" in line]
+    assert 1 <= len(lines) <= 2, lines[:4]
+
+
 def test_the_client_reconnects_when_the_box_goes_away_and_comes_back(lone_client, box):
     watch, client = lone_client
     outages = watch.get("outages")

@@ -3,12 +3,16 @@
 Requires: a clock in seconds (the node passes the wall clock). Provides: ``RejectionReporter``,
 which counts refusals per source (a robot) and kind (``velocity command rejected``) and says
 when to report them: at the first one, then at most once every ``interval`` seconds, each line
-carrying the count since the previous line of that source and kind and the latest detail.
+carrying the count since the previous line of that source and kind and the latest detail; and ``RefusalLog``, the
+same for a node: its refusals straight into its log. Every node reports what a peer may flood it with this way.
 """
 
 from __future__ import annotations
 
 import math
+import threading
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 
@@ -52,3 +56,28 @@ class RejectionReporter:
                 f"{self.interval:g} s); latest: {tally.detail}")
         tally.count, tally.reported_at = 0, now
         return line
+
+
+class RefusalLog:
+    """A node's refused inputs into its log through a ``RejectionReporter``: the first of a kind at once, then a line
+    every ``interval`` seconds with the count and the latest reason; thread-safe."""
+
+    def __init__(self, source: str, log: Callable[[str], None], interval: float = 5.0,
+                 clock: Callable[[], float] = time.monotonic):
+        self.source, self._log, self._clock = source, log, clock
+        self._reporter = RejectionReporter(interval)
+        self._lock = threading.Lock()
+
+    def refused(self, kind: str, detail: str) -> None:
+        """One refused input of ``kind`` (``image refused``) for ``detail`` (why)."""
+        with self._lock:
+            line = self._reporter.count(self.source, kind, detail, self._clock())
+        if line is not None:
+            self._log(line)
+
+    def flush(self) -> None:
+        """Report the counts held back longer than the interval (call it now and then: a flood's tail)."""
+        with self._lock:
+            lines = self._reporter.due(self._clock())
+        for line in lines:
+            self._log(line)

@@ -250,6 +250,12 @@ class SimHost:
     def _refused(self, name: str, kind: str, detail: str) -> str | None:
         return self.rejections.count(name, kind, detail, self._clock())
 
+    def refused(self, source: str, kind: str, detail: str) -> str | None:
+        """Count a refused request of ``source`` (a robot's Shoot, a service call); the line to log now, or None
+        while the reports of that source and kind are held back (a line every few seconds with the count)."""
+        with self.lock:
+            return self._refused(source, kind, detail)
+
     def ball_handle(self, name: str, enable: int) -> bool:
         """Switch robot ``name``'s ball handler; whether it holds the ball. Raises ``SimVisualError``."""
         with self.lock:

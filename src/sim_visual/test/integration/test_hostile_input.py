@@ -143,6 +143,21 @@ def test_a_nan_flood_is_counted_in_a_few_log_lines(sim, sim_launch):
     assert process.alive()
 
 
+def test_a_flood_of_refused_shots_is_counted_in_a_few_log_lines(sim, sim_launch):
+    """Each refused Shoot once gave a log line of its own (201 lines for 201 calls)."""
+    from nubot_common.srv import Shoot
+
+    process, _ = sim_launch
+    start = len(process.log_text())
+    shoot = sim.service("/nubot1/Shoot", Shoot)
+    answers = [shoot(5, 3).ShootIsDone for _ in range(201)]  # ShootPos 3 is no kick
+    assert answers == [0] * 201
+    sim.wait_for(lambda: "Shoot refused" in process.log_text()[start:], timeout=10, what="the refusals' line")
+    lines = [line for line in process.log_text()[start:].splitlines() if "Shoot refused" in line]
+    assert 1 <= len(lines) <= 2, lines[:5]
+    assert process.alive()
+
+
 def _rosrun(ros_master, *args: str) -> subprocess.CompletedProcess:
     return subprocess.run(["rosrun", "sim_visual", *args], env=ros_master.env, capture_output=True, text=True,
                           timeout=RUN_TIMEOUT, check=False)

@@ -157,6 +157,29 @@ def test_chapter_coach_command_sets_the_game_and_an_unknown_mode_is_refused(worl
     assert node.alive()
 
 
+def test_a_flood_of_distinct_bad_coach_commands_is_counted_in_a_line_or_two(world, ros_master):
+    """Every distinct bad CoachInfo once had a log line of its own (1333 lines in 5 s)."""
+    import rospy
+
+    from nubot_common.msg import CoachInfo
+
+    node, watcher = world
+    start = len(node.log_text())
+    pub = rospy.Publisher(f"/{TEAM}/receive_from_coach", CoachInfo, queue_size=500)
+    try:
+        watcher.wait_for(lambda: pub.get_num_connections() > 0, timeout=10, what="the world model to subscribe")
+        for k in range(300):
+            pub.publish(CoachInfo(MatchMode=28 + k % 200, MatchType=k % 27))  # 28 and up: no MatchMode
+            time.sleep(0.002)
+    finally:
+        pub.unregister()
+    watcher.wait_for(lambda: "coach command refused" in node.log_text()[start:], timeout=10, what="the line")
+    time.sleep(0.5)
+    lines = [line for line in node.log_text()[start:].splitlines() if "coach command refused" in line]
+    assert 1 <= len(lines) <= 2, lines[:4]
+    assert node.alive()
+
+
 def _teammate_messages(sim_time: float):
     """Teammate 2 at (0.5, 2) seeing the ball at (1, 2), and this robot's own message relayed back (to ignore)."""
     import genpy

@@ -19,6 +19,7 @@ from nubot_common import conversions as shared
 from nubot_common.match_mode import MatchMode
 from nubot_common.msg import CoachInfo, StrategyInfo, WorldModelInfo
 from nubot_common.node_io import publisher
+from nubot_common.rejections import RefusalLog
 from nubot_common.srv import CoachCommand
 
 
@@ -91,6 +92,7 @@ class RefboxClientNode:
         self.counts = {"applied": 0, "no_game_command": 0}
         self.last_command, self.last_effect = "", ""
         self.commands: queue.Queue[CommandEffect | None] = queue.Queue()
+        self.refusals = RefusalLog("refbox_client", rospy.logwarn)
         self.status_lock = threading.Lock()
         self.status_pub = publisher("~status", String)
         self.commander = GameCommander(p)
@@ -130,7 +132,10 @@ class RefboxClientNode:
             if effect is None:
                 return
             if effect.mode is None:
-                (rospy.loginfo if effect.known else rospy.logwarn)("refbox_client: %s", effect.text)
+                if effect.known:
+                    rospy.loginfo("refbox_client: %s", effect.text)
+                else:  # a box (or a peer) sending unknown commands: a line every few seconds with the count
+                    self.refusals.refused("unknown command", effect.text)
                 result = "nothing sent"
             else:
                 result = self.commander.send(effect.mode)

@@ -3,7 +3,6 @@ the near ball out, in the robot's body frame. It only adapts."""
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, fields
 
 import cv2
@@ -20,6 +19,7 @@ from nubot_common.msg import FrontBallInfo
 from nubot_common.naming import RobotNodeParams
 from nubot_common.node_io import publisher
 from nubot_common.params import from_mapping
+from nubot_common.rejections import RefusalLog
 from nubot_common.world_description import WORLD_NAMESPACE, world_from_params
 from omni_vision import OmniVisionError
 from omni_vision.colors import ColorTable
@@ -52,17 +52,15 @@ class FrontVisionNode:
             raise SystemExit(2) from exc
         self.robot = node.robot
         self.frame_id = f"{self.robot}/base_link"
-        self.last_error_log = -float("inf")
+        self.refusals = RefusalLog(f"front_vision: {self.robot}", rospy.logerr, _ERROR_LOG_PERIOD)
         self.ball_pub = publisher(f"/{self.robot}/front_vision/FrontBallInfo", FrontBallInfo)
         rospy.Subscriber("image", Image, self.on_image, queue_size=1, buff_size=_IMAGE_BUFFER)
         rospy.loginfo("front_vision: %s on %s, camera %s (%d x %d), table %s", self.robot,
                       rospy.resolve_name("image"), node.camera, camera.width, camera.height, node.color_table)
 
     def _log_bad_input(self, text: str) -> None:
-        now = time.monotonic()
-        if now - self.last_error_log >= _ERROR_LOG_PERIOD:
-            self.last_error_log = now
-            rospy.logerr("front_vision: %s", text)
+        kind, _, detail = text.partition(": ")
+        self.refusals.refused(kind, detail)
 
     def on_image(self, msg: Image) -> None:
         t = shared.seconds(msg.header.stamp) or rospy.get_time()

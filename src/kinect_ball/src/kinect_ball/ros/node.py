@@ -4,7 +4,6 @@ its 3-D ball out. It only adapts."""
 from __future__ import annotations
 
 import threading
-import time
 from dataclasses import fields
 
 import rospy
@@ -21,6 +20,7 @@ from nubot_common.msg import BallInfo3d, OmniVisionInfo
 from nubot_common.naming import RobotNodeParams
 from nubot_common.node_io import publisher
 from nubot_common.params import from_mapping
+from nubot_common.rejections import RefusalLog
 from nubot_common.world_description import WORLD_NAMESPACE, world_from_params
 
 _LOG_PERIOD = 5.0  # [s, wall] between two log lines about bad clouds or a missing pose
@@ -44,7 +44,7 @@ class KinectBallNode:
         self.lock = threading.Lock()
         self.pose: Pose2D | None = None  # the robot's own pose from its omni vision
         self.pending: dict[str, tuple[float, PointCloud2]] = {}
-        self.last_log: dict[str, float] = {}
+        self.refusals = RefusalLog(f"kinect_ball: {self.robot}", rospy.logwarn, _LOG_PERIOD)
         self.ball_pub = publisher(f"/{self.robot}/kinect/ballinfo", BallInfo3d)
         rospy.Subscriber("pose", OmniVisionInfo, self.on_pose, queue_size=1)
         for camera in CAMERAS:
@@ -54,10 +54,7 @@ class KinectBallNode:
                       rospy.resolve_name("pose"))
 
     def _log(self, kind: str, text: str) -> None:
-        now = time.monotonic()
-        if now - self.last_log.get(kind, -float("inf")) >= _LOG_PERIOD:
-            self.last_log[kind] = now
-            rospy.logwarn("kinect_ball: %s", text)
+        self.refusals.refused(kind, text)
 
     def on_pose(self, msg: OmniVisionInfo) -> None:
         if not msg.robotinfo:

@@ -5,7 +5,6 @@ adapts."""
 from __future__ import annotations
 
 import threading
-import time
 from dataclasses import dataclass, fields
 
 import rospy
@@ -18,6 +17,7 @@ from nubot_common.msg import LocalizationError, OdoInfo, OmniVisionInfo
 from nubot_common.naming import RobotNodeParams
 from nubot_common.node_io import publisher
 from nubot_common.params import from_mapping
+from nubot_common.rejections import RefusalLog
 from nubot_common.world_description import WORLD_NAMESPACE, world_from_params
 from omni_vision import OmniVisionError
 from omni_vision import conversions as conv
@@ -54,7 +54,7 @@ class OmniVisionNode:
         self.robot = node.robot
         self.lock = threading.Lock()
         self.pairs: StampPairs = StampPairs(_TRUTH_KEPT)  # each frame with the truth of its stamp, either first
-        self.last_error_log = -float("inf")
+        self.refusals = RefusalLog(f"omni_vision: {self.robot}", rospy.logerr, _ERROR_LOG_PERIOD)
         self.vision_pub = publisher(f"/{self.robot}/omnivision/OmniVisionInfo", OmniVisionInfo)
         self.debug_pub = publisher(f"/{self.robot}/omnivision/debug_image", Image)
         self.error_pub = publisher(f"/{self.robot}/omnivision/localization_error", LocalizationError)
@@ -67,10 +67,8 @@ class OmniVisionNode:
                       rospy.resolve_name("image"), world.name, node.color_table)
 
     def _log_bad_input(self, text: str) -> None:
-        now = time.monotonic()
-        if now - self.last_error_log >= _ERROR_LOG_PERIOD:
-            self.last_error_log = now
-            rospy.logerr("omni_vision: %s", text)
+        kind, _, detail = text.partition(": ")
+        self.refusals.refused(kind, detail)
 
     def on_odometry(self, msg: OdoInfo) -> None:
         try:

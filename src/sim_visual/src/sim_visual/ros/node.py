@@ -157,14 +157,14 @@ class RobotTopics:
         try:
             return BallHandleResponse(BallIsHolding=int(self.node.host.ball_handle(self.name, int(req.enable))))
         except SimVisualError as exc:
-            rospy.logwarn("%s: BallHandle refused: %s", self.name, exc)
+            self.node.warn(self.node.host.refused(self.name, "BallHandle refused", str(exc)))
             return BallHandleResponse(BallIsHolding=0)
 
     def on_shoot(self, req: Shoot._request_class) -> ShootResponse:
         try:
             done, event = self.node.host.shoot(self.name, float(req.strength), int(req.ShootPos))
         except SimVisualError as exc:
-            rospy.logwarn("%s: shoot refused: %s", self.name, exc)
+            self.node.warn(self.node.host.refused(self.name, "Shoot refused", str(exc)))
             return ShootResponse(ShootIsDone=0)
         if event is not None:
             self.node.kick_pub.publish(conv.kick_event_msg(event))
@@ -210,7 +210,7 @@ class SimVisualNode:
             state = conv.model_state_from_msg(ms.pose, ms.twist, ms.model_name == self.host.sim.config.ball_name)
             self.host.set_model_state(ms.model_name, state)
         except SimVisualError as exc:
-            rospy.logwarn("set_model_state refused: %s", exc)
+            self.warn(self.host.refused("sim_visual", "set_model_state refused", str(exc)))
             return SetModelStateResponse(False, str(exc))
         return SetModelStateResponse(True, f"set {ms.model_name}")
 
@@ -220,7 +220,7 @@ class SimVisualNode:
             spawn = RobotSpawn(req.model_name, state.x, state.y, state.theta, int(req.attack))
             self.robots[spawn.name] = RobotTopics(self, spawn.name, self.host.spawn(spawn))
         except (SimVisualError, ValueError) as exc:
-            rospy.logwarn("spawn_model refused: %s", exc)
+            self.warn(self.host.refused("sim_visual", "spawn_model refused", str(exc)))
             return SpawnModelResponse(False, str(exc))
         rospy.loginfo("sim_visual: spawned %s at (%.2f, %.2f), attacking %s", spawn.name, spawn.x, spawn.y,
                       "+x" if spawn.attack > 0 else "-x")
@@ -230,7 +230,7 @@ class SimVisualNode:
         try:
             self.host.delete(req.model_name)
         except SimVisualError as exc:
-            rospy.logwarn("delete_model refused: %s", exc)
+            self.warn(self.host.refused("sim_visual", "delete_model refused", str(exc)))
             return DeleteModelResponse(False, str(exc))
         self.robots.pop(req.model_name).close()
         rospy.loginfo("sim_visual: deleted %s", req.model_name)
@@ -254,7 +254,7 @@ class SimVisualNode:
         try:
             return {**config, **self.host.reconfigure(config)}
         except ValueError as exc:
-            rospy.logwarn("sim_visual: reconfiguration refused: %s", exc)
+            self.warn(self.host.refused("sim_visual", "reconfiguration refused", str(exc)))
             return {**config, **self.host.configuration()}
 
     def run(self) -> None:

@@ -31,12 +31,15 @@ from nubot_common.naming import RobotNodeParams
 from nubot_common.node_io import publisher, timer
 from nubot_common.params import from_mapping, require_positive
 from nubot_common.percepts import RobotView
+from nubot_common.rejections import RefusalLog
 from nubot_common.team_play import StrategyReport
 from nubot_common.world_description import WORLD_NAMESPACE, world_from_params
 from nubot_common.world_state import WorldState
 from world_model import WorldModelError
 from world_model.params import WorldModelParams
 from world_model.world_model import WorldModel
+
+REFUSAL_REPORT_INTERVAL = 5.0  # [s, wall] between two log lines about one kind of refused input
 
 
 @dataclass(frozen=True)
@@ -65,6 +68,7 @@ class WorldModelNode:
         self.rate = node.rate
         self.robot, team = node.robot, node.name.team
         self.lock = threading.Lock()
+        self.refusals = RefusalLog(f"world_model: {self.robot}", rospy.logwarn, REFUSAL_REPORT_INTERVAL)
         self.target = (0.0, 0.0)
         self.valid: set[int] = set()  # the teammates valid at the last snapshot
         self.flight_shown = False  # the last BallFlightInfo published had a 3-D ball
@@ -91,7 +95,11 @@ class WorldModelNode:
             with self.lock:
                 call(*args)
         except (WorldModelError, NubotCommonError) as exc:
-            rospy.logwarn_throttle(5.0, f"world_model: {self.robot}: {what} ignored: {exc}")
+            self._refused(f"{what} ignored", str(exc))
+
+    def _refused(self, kind: str, detail: str) -> None:
+        """Log a refused input: the first, then a line every few seconds with the count and the latest reason."""
+        self.refusals.refused(kind, detail)
 
     def on_vision(self, msg: OmniVisionInfo) -> None:
         self._apply("vision frame", lambda: self.model.on_vision(conv.robot_view(msg, rospy.get_time())))
@@ -130,9 +138,8 @@ class WorldModelNode:
                 before = self.model.game.command
                 game = self.model.on_coach(rospy.get_time(), *conv.coach_fields(msg))
         except WorldModelError as exc:
-            # The coach resends every 30 ms: the same refusal is logged again only every few seconds.
-            keeping = self.model.game.mode.name
-            rospy.logerr_throttle_identical(2.0, f"world_model: {self.robot}: {exc}; keeping {keeping}")
+            # The coach resends every 30 ms, and a peer may send any: counted, a line every few seconds.
+            self._refused("coach command refused", f"{exc}; keeping {self.model.game.mode.name}")
             return
         if game.command != before:
             rospy.loginfo("world_model: %s: game command %s (previous %s)", self.robot, game.mode.name,
@@ -156,6 +163,7 @@ class WorldModelNode:
             rospy.logwarn("world_model: %s: teammate %d is no longer valid (silent, lost or not playing); "
                           "the others take over its role", self.robot, gone)
         self.valid = valid
+        self.refusals.flush()  # a flood's tail
         self.info_pub.publish(conv.world_model_info_msg(state))
         if state.flight is not None or self.flight_shown:  # a robot without RGB-D cameras sends none
             self.flight_pub.publish(conv.ball_flight_msg(state.flight, state.stamp))
