@@ -1,9 +1,15 @@
-"""Fixtures shared by every package's tests: one private roscore per test session."""
+"""Fixtures shared by every package's tests: one private roscore per test session; and the property-based tests'
+settings (Hypothesis): the same examples on every run (derandomized), no example database left in the tree."""
 
 
 import pytest
+from hypothesis import HealthCheck, settings
 
 from nubot_common.processes import RosMaster
+
+settings.register_profile("nubot", derandomize=True, database=None, deadline=None, max_examples=150,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile("nubot")
 
 
 @pytest.fixture(scope="session")

@@ -1,6 +1,8 @@
 """A peer's JSON: one object, or one UntrustedInputError naming why not; never another exception."""
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from nubot_common import NubotCommonError
 from nubot_common.untrusted import UntrustedInputError, json_object, nesting_depth
@@ -27,3 +29,12 @@ def test_anything_else_is_one_clear_error(raw, error):
     with pytest.raises(UntrustedInputError, match=error) as caught:
         json_object(raw)
     assert isinstance(caught.value, NubotCommonError)
+
+
+@given(st.binary(max_size=400) | st.text(max_size=400) | st.integers(1, 5000).map(lambda n: "[" * n + "]" * n)
+       | st.integers(1, 9000).map(lambda n: '{"a": ' + "7" * n + "}"))
+def test_property_any_input_is_an_object_or_one_clear_error(raw):
+    try:
+        assert isinstance(json_object(raw), dict)
+    except UntrustedInputError:
+        pass

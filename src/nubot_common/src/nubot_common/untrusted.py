@@ -99,6 +99,6 @@ def declared_arrays(path: str | os.PathLike[str]) -> dict[str, tuple[tuple[int, 
                     read = npy.read_array_header_1_0 if major == 1 else npy.read_array_header_2_0
                     shape, _fortran, dtype = read(stream)
                 arrays[member.removesuffix(".npy")] = (tuple(shape), dtype)
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
-        raise UntrustedInputError(f"not an array archive (.npz): {exc}") from None
+    except Exception as exc:  # a damaged archive or header: zip's, zlib's, tokenize's errors and more
+        raise UntrustedInputError(f"not an array archive (.npz): {exc or type(exc).__name__}") from None
     return arrays

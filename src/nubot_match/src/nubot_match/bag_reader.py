@@ -21,7 +21,7 @@ from statistics import median
 from typing import Any
 
 import numpy as np
-from rosbags.rosbag1 import Reader, ReaderError
+from rosbags.rosbag1 import Reader
 from rosbags.typesys import Stores, TypesysError, get_types_from_msg, get_typestore
 
 from nubot_common.field import FieldGeometry
@@ -50,6 +50,16 @@ PROGRESS_STEPS = 10  # progress calls per bag
 
 class MatchBagError(Exception):
     """The bag cannot be read as a match: missing, unreadable, or without any match topic."""
+
+
+# What a damaged bag makes its reader raise: rosbags' ReaderError, but on bytes changed in a header, a chunk or a
+# message also UnicodeDecodeError, SerdeError, struct's, zlib's and more (the property-based tests found them one
+# after the other): any error while a file from elsewhere is parsed means the file cannot be read.
+BAG_FAULTS: tuple[type[BaseException], ...] = (Exception,)
+
+
+def unreadable(path: Path, exc: BaseException) -> str:
+    return f"{path} is not a readable ROS 1 bag: {exc or type(exc).__name__}"
 
 
 def build_typestore(connections):
@@ -219,8 +229,10 @@ def read_match(path: Path, progress: Callable[[int, int, float | None], None] | 
                     next_report = done * PROGRESS_STEPS // total + 1
             log = builder.finish()
             log.goalies = _goalies(reader)
-    except ReaderError as exc:
-        raise MatchBagError(f"{path} is not a readable ROS 1 bag: {exc}") from exc
+    except MatchBagError:
+        raise
+    except BAG_FAULTS as exc:
+        raise MatchBagError(unreadable(path, exc)) from exc
     for w in [*(f"{w}: not the expected type" for w in wrong), *builder.ignored]:
         warn(f"ignored {w}")
     return log

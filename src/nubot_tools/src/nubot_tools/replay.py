@@ -28,14 +28,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from rosbags.rosbag1 import Reader, ReaderError
+from rosbags.rosbag1 import Reader
 
 from coach4sim import CoachError
 from coach4sim.scene import Scene, field_layout, stamp_seconds
 from coach4sim.viewer_server import ViewerInputError, ViewerServer
 from nubot_common.match_mode import MatchMode
 from nubot_common.world_description import WorldDescription
-from nubot_match.bag_reader import MatchBagError, build_typestore, world_from_msg
+from nubot_match.bag_reader import BAG_FAULTS, MatchBagError, build_typestore, unreadable, world_from_msg
 
 STATES = "/sim_visual/model_states"
 REFEREE = "/referee/state"
@@ -143,8 +143,10 @@ def load_timeline(bag: Path, rate: float = 20.0,
             if timeline.frames and final != timeline.frames[-1]:
                 timeline.times.append(max(scene.t, timeline.times[-1]))
                 timeline.frames.append(final)
-    except ReaderError as exc:
-        raise MatchBagError(f"{bag} is not a readable ROS 1 bag: {exc}") from exc
+    except MatchBagError:
+        raise
+    except BAG_FAULTS as exc:
+        raise MatchBagError(unreadable(bag, exc)) from exc
     timeline.marks.sort(key=lambda k: k.t)
     return timeline
 
