@@ -27,11 +27,11 @@ FLAGS = ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-quic", "-
 
 
 class Page:
-    def __init__(self, url: str, width: int = 1500, height: int = 860):
+    def __init__(self, url: str, width: int = 1500, height: int = 860, flags: tuple[str, ...] = ()):
         self._profile = tempfile.TemporaryDirectory(prefix="viewer-chromium-")
         options = webdriver.ChromeOptions()
         options.binary_location = CHROMIUM
-        for flag in (*FLAGS, f"--window-size={width},{height}", f"--user-data-dir={self._profile.name}"):
+        for flag in (*FLAGS, *flags, f"--window-size={width},{height}", f"--user-data-dir={self._profile.name}"):
             options.add_argument(flag)
         self.driver = webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
         self.driver.get(url)
