@@ -59,30 +59,10 @@ ws.onopen = () => { ws.send(JSON.stringify({type: "command", command: "STOPROBOT
 ws.onerror = () => { if (document.title !== "open") document.title = "refused"; };"""
 
 
-def test_a_rebound_site_name_gets_neither_the_page_nor_the_websocket():
+def test_a_page_of_another_site_cannot_command_the_viewer_from_its_origin_or_by_dns_rebinding():
     backend = Backend()
     server, loop, viewer = _serving(backend)
-    try:
-        rules = ("--host-resolver-rules=MAP evil.test 127.0.0.1",)
-        with Page(f"http://evil.test:{server.port}/", flags=rules) as browser:
-            assert "viewer" not in browser.driver.title.lower() and "403" in browser.driver.page_source
-            browser.run(REBIND % server.port)
-            browser.wait_for(lambda: browser.driver.title in ("refused", "open"), 20.0, "the page's attempt")
-            threading.Event().wait(0.5)  # a command sent on an open socket would have arrived by now
-            assert browser.driver.title == "refused" and backend.commands == []
-    finally:
-        loop.call_soon_threadsafe(server.stop)
-        viewer.join(timeout=10)
-
-
-def test_a_page_of_another_origin_cannot_send_game_commands():
-    backend = Backend()
-    server = ViewerServer(backend, port=0, log=lambda text: None)
-    loop = asyncio.new_event_loop()
-    urls: list[str] = []
-    viewer = threading.Thread(target=lambda: loop.run_until_complete(server.run(ready=urls.append)), daemon=True)
-    viewer.start()
-    page = ATTACK % 0
+    page = ATTACK % server.port
 
     class Attacker(http.server.BaseHTTPRequestHandler):
         def do_GET(self) -> None:  # noqa: N802 - http.server's name
@@ -96,14 +76,18 @@ def test_a_page_of_another_origin_cannot_send_game_commands():
 
     site = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Attacker)
     threading.Thread(target=site.serve_forever, daemon=True).start()
+    rules = ("--host-resolver-rules=MAP evil.test 127.0.0.1",)  # the site's DNS, rebound to this machine
     try:
-        while not urls:
-            threading.Event().wait(0.01)
-        page = ATTACK % server.port
-        with Page(f"http://127.0.0.1:{site.server_address[1]}/") as browser:
+        with Page(f"http://127.0.0.1:{site.server_address[1]}/", flags=rules) as browser:
             browser.wait_for(lambda: browser.driver.title in ("refused", "open"), 20.0, "the page's attempt")
             threading.Event().wait(0.5)  # a command sent on an open socket would have arrived by now
-            assert browser.driver.title == "refused" and backend.commands == []
+            assert browser.driver.title == "refused" and backend.commands == [], "another origin"
+            browser.driver.get(f"http://evil.test:{server.port}/")
+            assert "viewer" not in browser.driver.title.lower() and "403" in browser.driver.page_source
+            browser.run(REBIND % server.port)
+            browser.wait_for(lambda: browser.driver.title in ("refused", "open"), 20.0, "the rebound page's attempt")
+            threading.Event().wait(0.5)
+            assert browser.driver.title == "refused" and backend.commands == [], "a rebound name"
     finally:
         site.shutdown()
         loop.call_soon_threadsafe(server.stop)

@@ -27,7 +27,7 @@ COMMAND_LIKE = st.fixed_dictionaries({}, optional={"command": JSON | st.sampled_
 IDENTITY = RefboxClientParams().identity
 
 
-@settings(max_examples=60)  # each example is a stream of messages
+@settings(max_examples=30)  # each example is a stream of messages
 @given(st.lists(st.binary(max_size=200) | st.builds(lambda m: json.dumps(m).encode() + b"\0", COMMAND_LIKE),
                 max_size=6))
 def test_the_refbox_stream_cut_anywhere_gives_frames_and_commands_or_their_errors(chunks):
