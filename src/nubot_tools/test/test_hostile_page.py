@@ -6,12 +6,12 @@ from __future__ import annotations
 
 import asyncio
 import http.server
-import json
 import threading
 
 import pytest
 
 from coach4sim.viewer_server import ViewerServer
+from nubot_tools.bench.hostile import RecordingBackend
 from nubot_tools.browser import Page
 
 pytestmark = pytest.mark.integration
@@ -24,25 +24,7 @@ ws.onerror = () => { if (document.title !== "open") document.title = "refused"; 
 </script>"""
 
 
-class Backend:
-    def __init__(self) -> None:
-        self.commands: list[tuple[object, str]] = []
-
-    def hello(self) -> dict:
-        return {"mode": "live", "field": {}, "teams": ["nubot", "rival"]}
-
-    def frame(self, watch: str) -> str:
-        return json.dumps({"type": "frame", "t": 0.0})
-
-    def command(self, command: object, team: str) -> tuple[bool, str]:
-        self.commands.append((command, team))
-        return True, "in force"
-
-    def control(self, message: dict) -> None:
-        pass
-
-
-def _serving(backend: Backend) -> tuple[ViewerServer, asyncio.AbstractEventLoop, threading.Thread]:
+def _serving(backend: RecordingBackend) -> tuple[ViewerServer, asyncio.AbstractEventLoop, threading.Thread]:
     server = ViewerServer(backend, port=0, log=lambda text: None)
     loop = asyncio.new_event_loop()
     urls: list[str] = []
@@ -60,7 +42,7 @@ ws.onerror = () => { if (document.title !== "open") document.title = "refused"; 
 
 
 def test_a_page_of_another_site_cannot_command_the_viewer_from_its_origin_or_by_dns_rebinding():
-    backend = Backend()
+    backend = RecordingBackend()
     server, loop, viewer = _serving(backend)
     page = ATTACK % server.port
 

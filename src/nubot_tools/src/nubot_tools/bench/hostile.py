@@ -116,7 +116,9 @@ def probe_refbox(per_case: int) -> dict[str, Any]:
     return results
 
 
-class _Backend:
+class RecordingBackend:
+    """A viewer's backend that draws nothing and records every command it is asked to carry out."""
+
     def __init__(self) -> None:
         self.commands: list[tuple[Any, str]] = []
 
@@ -135,7 +137,7 @@ class _Backend:
 
 
 def probe_viewer(per_case: int) -> dict[str, Any]:
-    backend = _Backend()
+    backend = RecordingBackend()
     lines: list[str] = []
     server = ViewerServer(backend, port=0, log=lines.append)
 
