@@ -287,3 +287,24 @@ def test_pages_that_leave_while_frames_are_on_their_way_leave_no_unretrieved_err
 def test_served_on_every_interface_it_names_an_address_another_machine_can_open():
     server = ViewerServer(SceneBackend(), host="0.0.0.0", port=8080, log=lambda text: None)
     assert server.url.startswith(f"http://{socket.gethostname()}:8080/?token=") and "0.0.0.0" not in server.url
+
+
+def test_a_flood_of_bad_page_messages_is_logged_as_a_count():
+    """Each malformed page message once had a log line of its own."""
+    async def scenario():
+        lines = []
+        server = ViewerServer(SceneBackend(), port=0, log=lines.append)
+        urls = []
+        task = asyncio.create_task(server.run(ready=urls.append))
+        while not urls:
+            await asyncio.sleep(0.01)
+        ws, _ = await connect(server)
+        for k in range(200):
+            answer = await reply(ws, "{not json %d" % k)
+            assert answer["type"] == "error"
+        server.stop()
+        await task
+        return lines
+    lines = run(scenario())
+    refused = [line for line in lines if "refused" in line]
+    assert len(refused) == 1 and "malformed JSON" in refused[0], refused[:3]
