@@ -1,9 +1,10 @@
 """team_link nodes over real LCM multicast, only ever inside network namespaces these tests make (root only).
 
 One LAN: the links of nubot1..3 and rival1..2 and nubot's coach share one namespace, one roscore and one group;
-then 10,000 malformed, oversized and foreign datagrams. Two LANs: nubot1 and nubot2 in one namespace, nubot3 in
-another (each with its own roscore), joined by a relay that delays every datagram 50 ms, and 30 % of the
-datagrams dropped on the way into each. ``ns_team.py`` plays the robots and watches the links inside a namespace.
+then 3,000 malformed, oversized and foreign datagrams (make bench's hostile probe sends 10,000 more). Two LANs:
+nubot1 and nubot2 in one namespace, nubot3 in another (each with its own roscore), joined by a relay that delays
+every datagram 50 ms, and 30 % of the datagrams dropped on the way into each. ``ns_team.py`` plays the robots
+and watches the links inside a namespace.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ DRIVER = Path(__file__).with_name("ns_team.py")
 TABLE = Path(__file__).resolve().parents[4] / "docs" / "topics.md"
 FRESH = 0.3  # [s] teammate data older than this is invalid (NUBOT_FACTS)
 CONTENT_REASONS = ("oversize", "foreign_type", "malformed", "invalid")
-FUZZ = 10_000
+FUZZ = 3_000
 
 
 def drive(ns: netns.NetNamespace, out: Path, *args: str) -> subprocess.Popen:
@@ -62,7 +63,7 @@ def drops(status: dict) -> dict[str, int]:
 
 @pytest.fixture(scope="module")
 def one_lan(tmp_path_factory):
-    """Two teams' links and nubot's coach on one group, 3 s of play, 10,000 bad datagrams, 2 s of play again."""
+    """Two teams' links and nubot's coach on one group, 3 s of play, 3,000 bad datagrams, 2 s of play again."""
     out = tmp_path_factory.mktemp("one_lan") / "result.json"
     with netns.NetNamespace("lan") as ns:
         driver = drive(ns, out, "--links", "nubot1,nubot2,nubot3,rival1,rival2", "--coach",
@@ -126,7 +127,7 @@ def test_the_links_report_their_counters(one_lan):
         assert status["dropped"] == sum(status["drop_counts"])
 
 
-def test_ten_thousand_bad_datagrams_are_counted_and_the_team_plays_on(one_lan):
+def test_three_thousand_bad_datagrams_are_counted_and_the_team_plays_on(one_lan):
     sent = one_lan["fuzz_sent"]
     assert sum(sent["by_kind"].values()) == FUZZ and 60_000 < sent["largest"] <= 65_000
     for topic, before in one_lan["status"].items():
@@ -152,7 +153,7 @@ def test_with_30_percent_loss_and_50_ms_delay_each_robot_sees_each_teammate_fres
         for ns in (a, b):
             ns.set_loss(port, 30)
         with netns.DelayRelay([a.name, b.name], DEFAULT_URL, delay=0.05) as relay:
-            common = ("--expect", "nubot=1,2,3", "--seconds", "10")
+            common = ("--expect", "nubot=1,2,3", "--seconds", "7")
             left = drive(a, tmp_path / "a.json", "--links", "nubot1,nubot2", "--feed", "nubot1,nubot2", *common)
             right = drive(b, tmp_path / "b.json", "--links", "nubot3", "--feed", "nubot3", *common)
             results = [finish(left, tmp_path / "a.json"), finish(right, tmp_path / "b.json")]
@@ -167,7 +168,7 @@ def test_with_30_percent_loss_and_50_ms_delay_each_robot_sees_each_teammate_fres
                 fresh = sum(a is not None and a < FRESH for a in ages) / len(ages)
                 known = [a for a in ages if a is not None]
                 report.append((link, agent, fresh, statistics.median(known), min(known)))
-                assert len(ages) >= 250, f"{link} published {len(ages)} times in 10 s"
+                assert len(ages) >= 175, f"{link} published {len(ages)} times in 7 s"
                 assert fresh >= 0.9, f"{link} saw nubot{agent} fresh {fresh:.0%} of the time"
                 if {own, agent} & {"3"}:  # across the relay: never faster than its delay
                     assert min(known) >= 0.05, f"{link} heard nubot{agent} {min(known) * 1000:.0f} ms after it sent"
