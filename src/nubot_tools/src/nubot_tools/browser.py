@@ -10,7 +10,6 @@ Chromium starts with a fresh profile and without its background connections (thi
 from __future__ import annotations
 
 import tempfile
-import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -18,6 +17,8 @@ from typing import Any
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.support.ui import Select
+
+from nubot_common.processes import wait_until
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMEDRIVER = "/usr/bin/chromedriver"
@@ -72,14 +73,12 @@ class Page:
                  "s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change'));", element_id, value)
 
     def wait_for(self, predicate: Callable[[], Any], timeout: float, what: str, poll: float = 0.1) -> Any:
-        deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline:
-            value = predicate()
-            if value:
-                return value
-            time.sleep(poll)
-        raise AssertionError(f"timed out after {timeout:g} s waiting for {what}; page stats {self.stats()}, "
-                             f"console {self.driver.get_log('browser')[-5:]}")
+        """``nubot_common.processes.wait_until``, its timeout telling the page's counters and console too."""
+        try:
+            return wait_until(predicate, timeout, what, poll)
+        except AssertionError as exc:
+            raise AssertionError(f"{exc}; page stats {self.stats()}, "
+                                 f"console {self.driver.get_log('browser')[-5:]}") from None
 
     def screenshot(self, path: Path) -> Path:
         path.parent.mkdir(parents=True, exist_ok=True)
