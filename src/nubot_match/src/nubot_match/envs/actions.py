@@ -27,12 +27,12 @@ from __future__ import annotations
 import numpy as np
 from gymnasium import spaces
 
-from nubot_common.commands import BodyVelocity, KickCommand, KickKind, RobotCommand
+from nubot_common.commands import RobotCommand
+from nubot_common.policy import ACTION_NAMES, TRIGGER, command_from_action
 from nubot_match import NubotMatchError
 from sim_visual.params import PluginParams
 
-ACTION_NAMES = ("vx", "vy", "w", "dribble", "kick")
-TRIGGER = 0.5  # dribble and kick entries above this switch on
+__all__ = ["ACTION_NAMES", "TRIGGER", "action_space", "check_action", "to_command"]
 _TOLERANCE = 1e-5  # float32 rounding of the bounds
 
 
@@ -60,12 +60,4 @@ def check_action(action: object, space: spaces.Box, who: str) -> np.ndarray:
 
 def to_command(action: object, space: spaces.Box, plugin: PluginParams, who: str) -> RobotCommand:
     """The commands of one control cycle for ``action`` (see the table above)."""
-    a = check_action(action, space, who)
-    kick = a[4] > TRIGGER
-    return RobotCommand(
-        velocity=BodyVelocity(float(a[0]), float(a[1]), float(a[2])),
-        dribble=bool(a[3] > TRIGGER),
-        # A kick takes the held ball: switching the handler off first would drop it before the kick.
-        ball_handle=None if kick else int(a[3] > TRIGGER),
-        kick=KickCommand(KickKind.GROUND, int(round(a[4] * plugin.kick_max_speed))) if kick else None,
-    )
+    return command_from_action(check_action(action, space, who), plugin.kick_max_speed)
