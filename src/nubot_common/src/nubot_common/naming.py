@@ -123,6 +123,14 @@ class RobotSelection:
         return "all" if self.every else ",".join(sorted(self.names))
 
 
+def parse_agent_ids(text: str) -> tuple[int, ...]:
+    """AgentIDs written ``2`` or ``2,3``; ``NubotCommonError`` for a word that is no whole number from 1."""
+    words = [w.strip() for w in str(text).replace(" ", ",").split(",") if w.strip()]
+    if not words or not all(w.isdigit() and int(w) >= 1 for w in words):
+        raise NubotCommonError(f"AgentIDs are whole numbers from 1 such as 2 or 2,3; got {text!r}")
+    return tuple(sorted({int(w) for w in words}))
+
+
 TEAM_COLOURS = ("#1ec8e6", "#e83fd1", "#f2c230", "#7ad151")  # cyan, magenta, yellow, green
 NO_TEAM_COLOUR = "#cccccc"
 

@@ -32,6 +32,7 @@ from nubot_common.world_description import WorldDescription
 from nubot_common.world_state import CoachExtras, GameState, WorldState
 from nubot_control.params import ControlParams
 from nubot_control.plugins import StrategyFactory, StrategyPlugin, strategy_class
+from nubot_control.policy_player import player_or_strategy
 from nubot_control.strategy import ControlOutput, Strategy
 from nubot_control.team_state import team_state
 from world_model.params import WorldModelParams
@@ -57,7 +58,7 @@ class Controller:
         self.world = world
         self.agent_id = agent_id
         cls: StrategyFactory = strategy_class(params.strategy) if params.strategy else Strategy
-        self.strategy: StrategyPlugin = cls(params, world, agent_id)
+        self.strategy: StrategyPlugin = player_or_strategy(cls(params, world, agent_id), params)
         self._dribble_on = False
         self._last_request = -math.inf
 

@@ -133,6 +133,7 @@ class ControlParams:
     rate: float = 33.0  # control cycles per second [Hz] (chapter 4.4)
     world_model_timeout: float = 0.5  # a world model older than this is stale: the robot stops [s, sim time]
     strategy: str = ""  # "" the built-in Strategy; else "package.module:Class" or "/abs/file.py:Class" (plugins)
+    policy: str = ""  # "" none; else a trained policy file (.npz) this robot plays in open play (policy_player)
 
     def __post_init__(self) -> None:
         require_positive(self, "rate", "world_model_timeout")

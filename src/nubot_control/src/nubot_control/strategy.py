@@ -114,6 +114,10 @@ class Strategy:
         return ControlOutput(velocity, intent.dribble, kick, role, intent.action, (intent.target.x, intent.target.y),
                              static_pass, plan, roles)
 
+    def in_open_play(self, state: TeamState) -> bool:
+        """Whether the ball is in open play at ``state`` (START given and any restart taken), as of the last step."""
+        return state.mode == MatchMode.STARTROBOT and self._restart_over
+
     def _track_carry(self, state: TeamState) -> None:
         """Where this robot caught the ball it holds; forgotten once the ball is away from it (released for all to
         see), as the referee does (RC-12.0.1)."""

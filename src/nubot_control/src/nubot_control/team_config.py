@@ -9,14 +9,18 @@ says which world goal the team attacks.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
 from nubot_common import NubotCommonError
 from nubot_common.field import FieldGeometry
 from nubot_common.geometry import Pose2D
 from nubot_common.naming import RobotName, RobotSelection, check_team_prefix
+from nubot_common.policy import PolicyNet
 from nubot_common.team_frame import TeamFrame
+from nubot_control.plugins import resolve_spec, strategy_class
+from nubot_control.policy_player import playable
 
 
 @dataclass(frozen=True)
@@ -28,6 +32,8 @@ class TeamConfig:
     robots: tuple[Pose2D, ...]  # start poses, team frame [m], [rad]
     control_config: str = ""  # extra nubot_control YAML for this team (e.g. your own strategy's parameters)
     strategy: str = ""  # your own strategy class, "package.module:Class" or "file.py:Class" (nubot_control.plugins)
+    policy: str = ""  # a trained policy file (.npz, make train) that the robots policy_robots play in open play
+    policy_robots: tuple[int, ...] = ()  # AgentIDs of the robots playing ``policy``
 
     def __post_init__(self) -> None:
         try:
@@ -39,6 +45,28 @@ class TeamConfig:
             raise ValueError(f"a team has 1 to 5 robots, got {len(self.robots)}")
         if not 1 <= self.goalie <= len(self.robots):
             raise ValueError(f"goalie must be one of the robots 1..{len(self.robots)}, got {self.goalie}")
+        if bool(self.policy) != bool(self.policy_robots):
+            raise ValueError("a policy needs the robots that play it (policy_robots: [2]), and policy_robots a policy")
+        for agent in self.policy_robots:
+            if not 1 <= agent <= len(self.robots):
+                raise ValueError(f"policy_robots: {agent} is not one of the robots 1..{len(self.robots)}")
+
+    def resolved(self, base: str | Path) -> TeamConfig:
+        """This team with its strategy's file and its policy file made absolute against ``base`` (the YAML's
+        folder), each checked to load: ``NubotControlError`` or ``PolicyError`` saying why not."""
+        strategy = resolve_spec(self.strategy, base)
+        if strategy:
+            strategy_class(strategy)
+        policy = ""
+        if self.policy:
+            path = Path(self.policy).expanduser()
+            policy = str((path if path.is_absolute() else Path(base) / path).resolve())
+            playable(PolicyNet.load(policy))
+        return replace(self, strategy=strategy, policy=policy)
+
+    def policy_of(self, agent_id: int) -> str:
+        """The policy file robot ``agent_id`` plays ("" none)."""
+        return self.policy if agent_id in self.policy_robots else ""
 
     def robot_names(self) -> list[str]:
         return [str(RobotName(self.prefix, k)) for k in range(1, len(self.robots) + 1)]
@@ -84,6 +112,7 @@ def team_launch_xml(team: TeamConfig, tracker: str = "", vision: RobotSelection 
                   f"    <arg name=\"config\" value={quoteattr(team.control_config)}/>",
                   f"    <arg name=\"tracker\" value={quoteattr(tracker)}/>",
                   f"    <arg name=\"strategy\" value={quoteattr(team.strategy)}/>",
+                  f"    <arg name=\"policy\" value={quoteattr(team.policy_of(agent))}/>",
                   f"    <arg name=\"perception\" value=\"{'vision' if name in vision else 'truth'}\"/>",
                   f"    <arg name=\"processes\" value=\"{processes}\"/>",
                   "  </include>"]

@@ -1,8 +1,8 @@
 """A lockstep match's configuration, read from the same YAML files the launch files load.
 
 Requires: two team YAMLs (``nubot_control/config/teams/*.yaml``: prefix, attack, goalie, start poses,
-optional ``control_config`` and ``strategy``; relative paths are taken from the YAML's folder; a team can
-meet a variant of itself: ``opponents`` gives the second another prefix and end), a field
+optional ``control_config``, ``strategy`` and ``policy`` with ``policy_robots``; relative paths are taken from
+the YAML's folder; a team can meet a variant of itself: ``opponents`` gives the second another prefix and end), a field
 (``18x12``, ``22x14`` or a world description YAML), the tracker (``mpc``, ``baseline`` or "" for the
 configured one), the half length [s of game time] and number of halves.
 Provides: ``MatchConfig`` (frozen: the world, both teams with the ``ControlParams`` their nubot_control
@@ -29,7 +29,6 @@ from nubot_common.params import from_mapping
 from nubot_common.world_description import WorldDescription, load_world
 from nubot_control import NubotControlError
 from nubot_control.params import TRACKERS, ControlParams
-from nubot_control.plugins import resolve_spec, strategy_class
 from nubot_control.team_config import TeamConfig
 from nubot_match import NubotMatchError
 from sim_visual.params import SimInterfaceParams, SimNodeParams
@@ -52,6 +51,11 @@ class TeamSetup:
     config: TeamConfig
     control: ControlParams
     source: str = ""  # the team YAML it came from
+
+    def control_of(self, agent_id: int) -> ControlParams:
+        """What robot ``agent_id``'s nubot_control gets: the team's parameters and its policy file, if any."""
+        policy = self.config.policy_of(agent_id)
+        return replace(self.control, policy=policy) if policy else self.control
 
 
 @dataclass(frozen=True)
@@ -141,11 +145,9 @@ def load_team(path: str | Path, world: WorldDescription, tracker: str = "") -> T
             raise NubotMatchError(f"tracker must be one of {', '.join(TRACKERS)}, got {tracker!r}")
         control = merged(control, {"motion": {"tracker": tracker}})
     try:
-        strategy = resolve_spec(team.strategy, path.parent)
-        if strategy:
-            strategy_class(strategy)
-            control["strategy"] = strategy
-        team = replace(team, strategy=strategy)
+        team = team.resolved(path.parent)
+        if team.strategy:
+            control["strategy"] = team.strategy
         params = from_mapping(ControlParams, control, f"{path.name} control")
     except (NubotCommonError, NubotControlError, ValueError) as exc:
         raise NubotMatchError(f"team {path}: {exc}") from None

@@ -93,7 +93,8 @@ class LockstepMatch:
         self.control_period: dict[str, float] = {}
         for team in cfg.teams:
             for name in team.config.robot_names():
-                self.agents[name] = RobotAgent(parse_robot_name(name), cfg.world, cfg.world_model, team.control)
+                robot = parse_robot_name(name)
+                self.agents[name] = RobotAgent(robot, cfg.world, cfg.world_model, team.control_of(robot.agent_id))
                 self.control_period[name] = 1.0 / team.control.rate
         self.team_of = {name: parse_robot_name(name).team for name in self.agents}
         self.goalies = frozenset(name for team in cfg.teams for name in team.config.robot_names()

@@ -21,6 +21,7 @@ import signal
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from datetime import datetime
 from pathlib import Path
 
@@ -33,7 +34,7 @@ from rosgraph_msgs.msg import Clock
 from nubot_common import NubotCommonError
 from nubot_common.json_text import strict_json
 from nubot_common.msg import GameState
-from nubot_common.naming import RobotSelection
+from nubot_common.naming import RobotSelection, parse_agent_ids
 from nubot_common.node_io import wait_for_robots
 from nubot_common.params import load_yaml
 from nubot_common.processes import Launched, RosMaster, process_table
@@ -329,6 +330,9 @@ def play(argv: list[str] | None) -> int:
     parser.add_argument("--vision", default="",
                         help="robots that see through the simulated omni camera instead of the simulator's percepts "
                              "(omni_vision): all, or names such as nubot1,nubot2; each costs a few ms of CPU a frame")
+    parser.add_argument("--policy", default="", help="a trained policy file (make train) that the first team's "
+                        "--policy-robots play in open play")
+    parser.add_argument("--policy-robots", default="2", help="AgentIDs of the first team playing --policy (default 2)")
     parser.add_argument("--viewer-port", type=int, default=8080,
                         help="the live page's port on 127.0.0.1 (default 8080; 0: any free port; -1: no page)")
     args = parser.parse_args(argv)
@@ -343,6 +347,12 @@ def play(argv: list[str] | None) -> int:
         configs = [load_yaml(TeamConfig, t) for t in teams]
         for config in configs:
             config.check_field(world.field)
+        policy_args = []
+        if args.policy:
+            policy = str(Path(args.policy).expanduser().resolve())
+            robots = parse_agent_ids(args.policy_robots)
+            replace(configs[0], policy=policy, policy_robots=robots).resolved(teams[0].parent)  # loads, or says why
+            policy_args = ["--policy", policy, "--policy-robots", ",".join(map(str, robots))]
     except (OSError, NubotCommonError, ValueError) as exc:
         parser.error(str(exc))
     out = args.out / datetime.now().strftime("match-%Y%m%d-%H%M%S")
@@ -376,9 +386,9 @@ def play(argv: list[str] | None) -> int:
                                               str(bag), "__name:=match_recorder"])
         team_args = ((["--tracker", args.tracker] if args.tracker else []) + ["--vision", str(vision)]
                      + ["--processes", args.processes])
-        for team_file, config in zip(teams, configs):
+        for k, (team_file, config) in enumerate(zip(teams, configs)):
             master.launch(f"team_{config.prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
-                                                    str(team_file), *team_args])
+                                                    str(team_file), *team_args, *(policy_args if k == 0 else [])])
         names = [n for c in configs for n in c.robot_names()]
 
         silent = wait_for_robots(names, timeout=180, stop=lambda: run.check(simulator=sim))

@@ -27,12 +27,11 @@ from geometry_msgs.msg import Pose
 
 from nubot_common import NubotCommonError
 from nubot_common.geometry import yaw_to_quaternion
-from nubot_common.naming import RobotSelection
+from nubot_common.naming import RobotSelection, parse_agent_ids
 from nubot_common.params import load_yaml
 from nubot_common.processes import ending_with_this_process
 from nubot_common.srv import DeleteModel, SpawnModel
 from nubot_common.world_description import WORLD_NAMESPACE, world_from_params
-from nubot_control.plugins import resolve_spec, strategy_class
 from nubot_control.team_config import TeamConfig, team_launch_xml
 
 
@@ -66,6 +65,9 @@ def main(argv: list[str] | None = None) -> int:
                         help="the motion layer's tracker for every robot (default: as configured)")
     parser.add_argument("--vision", default="",
                         help="robots that see through the simulated omni camera (omni_vision): all or nubot1,nubot2")
+    parser.add_argument("--policy", default="", help="a trained policy file (make train) for --policy-robots, "
+                        "instead of the team's")
+    parser.add_argument("--policy-robots", default="2", help="AgentIDs playing --policy, e.g. 2 or 2,3 (default 2)")
     parser.add_argument("--processes", choices=("one", "two"), default="one",
                         help="each robot's world model and nubot_control in one node (/ROBOT/robot) or in two "
                              "(/ROBOT/world_model, /ROBOT/nubot_control); default one")
@@ -73,10 +75,11 @@ def main(argv: list[str] | None = None) -> int:
     try:
         vision = RobotSelection.parse(args.vision)
         team = load_yaml(TeamConfig, args.team_config)
-        team = replace(team, strategy=resolve_spec(team.strategy, args.team_config.parent))
-        if team.strategy:
-            strategy_class(team.strategy)  # refuse a strategy the robots could not load, before spawning
-    except (OSError, NubotCommonError) as exc:
+        if args.policy:
+            team = replace(team, policy=str(Path(args.policy).resolve()),
+                           policy_robots=parse_agent_ids(args.policy_robots))
+        team = team.resolved(args.team_config.parent)  # refuse a strategy or policy the robots could not load
+    except (OSError, NubotCommonError, ValueError) as exc:
         print(f"spawn_team: {exc}", file=sys.stderr)
         return 2
 
