@@ -13,8 +13,13 @@ SEED ?= 0
 SEEDS ?= 4
 VISION ?=
 VIEWER_PORT ?= 8080
+POLICY ?=
+POLICY_ROBOTS ?= 2
+TASK ?= score
+STEPS ?= 2000000
+EPISODES ?= 200
 
-.PHONY: setup match demo replay evaluate test unit integration bench soak lint clean
+.PHONY: setup match demo replay evaluate train test unit integration bench soak lint clean
 .PHONY: bench-faithfulness sanitize
 
 setup:
@@ -22,7 +27,8 @@ setup:
 
 match: setup
 	@$(ROS) python scripts/run_match.py --half-seconds $(HALF_SECONDS) --tracker $(TRACKER) --field $(FIELD) \
-	  --vision "$(VISION)" --viewer-port $(VIEWER_PORT)
+	  --vision "$(VISION)" --viewer-port $(VIEWER_PORT) \
+	  $(if $(POLICY),--policy "$(POLICY)" --policy-robots "$(POLICY_ROBOTS)",)
 
 demo: setup
 	@$(ROS) python scripts/run_demo.py --sim-seconds $(DEMO_SECONDS)
@@ -32,16 +38,31 @@ replay: setup
 	@test -n "$(BAG)" || { echo "make replay BAG=<a match bag>, e.g. matches/match-<time>/match.bag"; exit 2; }
 	@$(ROS) python scripts/replay.py "$(BAG)" --port $(or $(PORT),8080)
 
-# Many lockstep matches, HOME against AWAY, on every core (JOBS=N) or a dask cluster (SCHEDULER=tcp://host:8786):
+# With POLICY=<file> (make train's policy.npz): that policy against the scripted striker on its TASK, EPISODES seeded
+# episodes each (evaluations/<task>-<time>/{results.json,table.md,success.png}). Otherwise:
+# many lockstep matches, HOME against AWAY, on every core (JOBS=N) or a dask cluster (SCHEDULER=tcp://host:8786):
 # evaluations/<time>/{results.json,table.md,goal_difference.png}. HOME is also the shell's home folder: only a
 # HOME given on the command line names a team.
 evaluate: setup
+ifneq ($(POLICY),)
+	@$(ROS) python scripts/evaluate.py --policy "$(POLICY)" --task $(TASK) --episodes $(EPISODES) --seed $(SEED) \
+	  $(if $(JOBS),--jobs $(JOBS),) $(if $(OUT),--out $(OUT),)
+else
 	@export HOME=$$(getent passwd $$(id -u) | cut -d: -f6) && $(ROS) python scripts/evaluate.py \
 	  --home $(if $(filter command line,$(origin HOME)),$(HOME),$(HOME_TEAM_DEFAULT)) \
 	  --away $(or $(AWAY),$(AWAY_TEAM_DEFAULT)) --matches $(MATCHES) --half-seconds $(HALF_SECONDS) \
 	  --field $(FIELD) --seed $(SEED) $(if $(filter command line,$(origin TRACKER)),--tracker $(TRACKER),) \
 	  $(if $(JOBS),--jobs $(JOBS),) $(if $(SCHEDULER),--scheduler $(SCHEDULER),) \
 	  $(if $(OUT),--out $(OUT),) $(if $(RESUME),--resume,)
+endif
+
+# Train a robot (TASK=score, STEPS, WORKERS, SEED, OUT, RESUME=1) with Stable-Baselines3: runs/<task>-<time>/ holds
+# the policy file, checkpoints, TensorBoard logs and the learning curve. Its first use installs
+# requirements-train.txt (PyTorch's CPU build, Stable-Baselines3, TensorBoard) into .venv: scripts/setup_train.sh.
+train: setup
+	@bash scripts/setup_train.sh
+	@$(ROS) python scripts/train.py --task $(TASK) --steps $(STEPS) --seed $(SEED) \
+	  $(if $(WORKERS),--workers $(WORKERS),) $(if $(OUT),--out $(OUT),) $(if $(RESUME),--resume,)
 
 # The integration tests one at a time (each starts its own roscore and real-time nodes) and, beside them at a
 # lower priority, the lint and the unit tests on every core (pytest-xdist, a test file per worker):
@@ -50,6 +71,7 @@ test: setup
 	@$(ROS) bash scripts/run_tests.sh
 
 unit: setup
+	@bash scripts/setup_train.sh
 	@$(ROS) python -m pytest -m "not integration" -n auto --dist loadfile
 
 integration: setup

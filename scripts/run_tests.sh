@@ -11,7 +11,9 @@ lint_log="$(mktemp -t nubot-lint.XXXXXX.log)"
 nice -n 10 bash scripts/lint.sh > "$lint_log" 2>&1 &
 lint_pid=$!
 unit_log="$(mktemp -t nubot-unit-tests.XXXXXX.log)"
-nice -n 10 python -m pytest -m "not integration" -n auto --dist loadfile > "$unit_log" 2>&1 &
+# the training test needs make train's libraries: installed here (once), beside the integration tests
+nice -n 10 bash -c 'bash scripts/setup_train.sh && exec python -m pytest -m "not integration" -n auto --dist loadfile' \
+  > "$unit_log" 2>&1 &
 unit_pid=$!
 trap 'kill -INT "$unit_pid" "$lint_pid" 2>/dev/null; wait "$unit_pid" "$lint_pid" 2>/dev/null' INT TERM
 echo "[test] lint and unit tests running in the background (nice 10, every core), their reports at the end:" \

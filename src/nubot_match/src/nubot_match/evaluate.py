@@ -4,7 +4,8 @@
                                [--scheduler tcp://host:8786] [--field 18x12] [--tracker mpc] [--seed 0]
                                [--out DIR [--resume]]
 
-Requires: two team YAMLs (a team may name a strategy class of its own, ``nubot_control.plugins``).
+Requires: two team YAMLs (a team may name a strategy class of its own, ``nubot_control.plugins``). With
+``--policy FILE`` instead, a trained policy file plays against the scripted striker (``learn.compare``).
 Match i is played with seed ``--seed + i``; odd matches swap the sides (AWAY kicks off and each team
 starts at the other end), so matches 2k and 2k + 1 are a pair, one each way round, but every match is a
 game of its own (the same seed each way round would replay one game mirrored). Matches run in ``--jobs``
@@ -42,6 +43,7 @@ from nubot_common.naming import team_of
 from nubot_match import NubotMatchError
 from nubot_match.config import TEAMS, MatchConfig, match_config
 from nubot_match.engine import LockstepMatch
+from nubot_match.learn.compare import main as compare_policy
 from nubot_match.match_analysis import FOUL_KINDS, MatchSummary, analyse
 from nubot_match.match_shots import ShotReport, explain
 from nubot_match.record import MatchLogRecorder
@@ -307,6 +309,9 @@ def _name(path: str) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
+    args_given = sys.argv[1:] if argv is None else argv
+    if "--policy" in args_given:  # a trained policy file against the scripted striker on its task
+        return compare_policy(args_given)
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--home", default=str(TEAMS / "nubot.yaml"), help="HOME team YAML")
     parser.add_argument("--away", default=str(TEAMS / "rival.yaml"), help="AWAY team YAML")
