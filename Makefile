@@ -91,6 +91,8 @@ bench: setup
 	@$(ROS) python scripts/bench_hwcontrol.py --out bench/results
 	@$(ROS) python scripts/bench_viewer.py --out bench/results
 	@$(ROS) python scripts/bench_hostile.py --out bench/results
+	@bash scripts/setup_train.sh
+	@$(ROS) python scripts/bench_train.py --out bench/results $(if $(RUN),--run $(RUN),)
 
 # Lockstep against ROS on seeds 0..SEEDS-1, matches of 2 x HALF_SECONDS (the ROS ones at real time, on every core:
 # long, so not in bench): bench/results/faithfulness.{json,png}.

@@ -1,5 +1,6 @@
 """Team play over real ROS: two teams of three spawned by the spawner, each robot's world model and nubot_control in
-one node (/<r>/robot) for nubot and in two (/<r>/world_model, /<r>/nubot_control) for rival."""
+one node (/<r>/robot) for nubot and in two (/<r>/world_model, /<r>/nubot_control) for rival; rival3 plays a policy
+file (the spawner's --policy) that turns on the spot in open play."""
 
 import itertools
 import math
@@ -19,6 +20,16 @@ ROOT = Path(__file__).resolve().parents[4]
 TEAM = {"robots": [{"x": -8.4, "y": 0.0, "theta": 0.0}, {"x": -1.5, "y": 1.0, "theta": 0.0},
                    {"x": -3.0, "y": -2.0, "theta": 0.0}], "goalie": 1}
 PROCESSES = {"nubot": "one", "rival": "two"}  # the spawner's --processes for each team
+SPIN = 4.0  # [rad/s] rival3's policy file turns at this rate whatever it sees
+
+
+def spinning_policy(path: Path) -> Path:
+    from nubot_common.policy import PolicyNet
+    from nubot_control.policy_player import OBSERVABLE
+
+    n = len(OBSERVABLE)
+    return PolicyNet.constant([0.0, 0.0, SPIN, 0.0, 0.0], OBSERVABLE, [-50.0] * n, [50.0] * n,
+                              [-5.0, -5.0, -12.0, 0.0, 0.0], [5.0, 5.0, 12.0, 1.0, 1.0]).save(path)
 
 
 def robot_nodes(robot: str) -> set[str]:
@@ -34,6 +45,7 @@ class Watch:
         from nubot_common.msg import ModelStates, StrategyInfo, WorldModelInfo
 
         self.poses, self.roles, self.mates = {}, {}, []
+        self.yaw, self.turned = None, 0.0  # rival3's heading [rad] and how far it has turned in all [rad]
         self.subs = [rospy.Subscriber("/sim_visual/model_states", ModelStates, self._states, queue_size=1),
                      rospy.Subscriber("/nubot1/worldmodel/worldmodelinfo", WorldModelInfo,
                                       lambda m: setattr(self, "mates", list(m.robotinfo)), queue_size=1)]
@@ -44,6 +56,12 @@ class Watch:
 
     def _states(self, msg):
         self.poses = {n: (p.position.x, p.position.y) for n, p in zip(msg.name, msg.pose)}
+        if "rival3" in msg.name:
+            q = msg.pose[msg.name.index("rival3")].orientation
+            yaw = 2.0 * math.atan2(q.z, q.w)
+            if self.yaw is not None:
+                self.turned += abs(math.remainder(yaw - self.yaw, 2.0 * math.pi))
+            self.yaw = yaw
 
     def wait(self, predicate, timeout, what):
         wait_until(predicate, timeout, f"{what}; poses {self.poses}, roles {self.roles}", poll=0.1)
@@ -60,8 +78,10 @@ def match(ros_master, tmp_path_factory):
     for prefix, attack in (("nubot", 1), ("rival", -1)):
         path = folder / f"{prefix}.yaml"
         path.write_text(yaml.safe_dump({"name": prefix, "prefix": prefix, "attack": attack, **TEAM}))
+        policy = ["--policy", str(spinning_policy(folder / "spin.npz")), "--policy-robots", "3"] \
+            if prefix == "rival" else []
         teams.append(ros_master.launch(f"team_{prefix}", [sys.executable, "-m", "nubot_tools.ros.spawner",
-                                                          str(path), "--processes", PROCESSES[prefix]]))
+                                                          str(path), "--processes", PROCESSES[prefix], *policy]))
     watch = Watch()
     from nubot_common.node_io import wait_for_robots
 
@@ -116,12 +136,16 @@ def test_our_kickoff_by_rostopic_pub_gives_the_kickoff_formation(match):
         stop(*pubs)
 
 
-def test_after_start_the_teams_play_the_ball(match):
+def test_after_start_the_teams_play_the_ball_and_the_policy_file_drives_rival3(match):
     master, watch = match
     start = watch.poses["football"]
+    turned_before = watch.turned
     pubs = coach(master, "nubot", 15), coach(master, "rival", 15)
     try:
         watch.wait(lambda: math.dist(watch.poses["football"], start) > 1.5, 40, "the ball to be played")
+        # once the kick-off is taken the ball is in open play: rival3's policy turns it at SPIN
+        watch.wait(lambda: watch.turned - turned_before > 4.0 * math.pi, 15,
+                   f"rival3 to turn on the spot (turned {watch.turned - turned_before:.1f} rad)")
     finally:
         stop(*pubs)
 

@@ -21,10 +21,13 @@ import gymnasium
 import numpy as np
 from gymnasium.wrappers import RescaleAction, RescaleObservation
 
-from nubot_common.policy import DERIVED, DERIVED_BOUNDS, policy_input
+from nubot_common.policy import ACTION_NAMES, DERIVED, DERIVED_BOUNDS, policy_input
 from nubot_match import NubotMatchError
 from nubot_match.envs import SCORE_AGAINST_GOALIE
 from nubot_match.envs.rewards import ScoreReward
+
+
+STRIKER_ACTIONS = {"vx": (-3.0, 3.0), "vy": (-3.0, 3.0), "w": (-4.0, 4.0)}  # [m/s], [rad/s]
 
 
 @dataclass(frozen=True)
@@ -69,10 +72,28 @@ class PolicyView(gymnasium.ObservationWrapper):
         return np.clip(out, self.observation_space.low, self.observation_space.high)
 
 
-def normalized(env: gymnasium.Env) -> gymnasium.Env:
-    """``env`` seen by a policy (``PolicyView``) through [-1, 1] observations and actions: what a learner sees, and
-    what ``PolicyNet`` undoes."""
-    env = PolicyView(env)
+class ActionRange(gymnasium.ActionWrapper):  # type: ignore[type-arg]
+    """The environment's actions within a narrower box: a learner explores over the speeds a striker uses rather
+    than the robot's limits (a turn rate drawn from +-12 rad/s makes every beginner spin on the spot)."""
+
+    def __init__(self, env: gymnasium.Env, limits: Mapping[str, tuple[float, float]]):
+        super().__init__(env)
+        full = env.action_space
+        assert isinstance(full, gymnasium.spaces.Box)
+        low, high = full.low.copy(), full.high.copy()
+        for k, name in enumerate(ACTION_NAMES):
+            if name in limits:
+                low[k], high[k] = max(low[k], limits[name][0]), min(high[k], limits[name][1])
+        self.action_space = gymnasium.spaces.Box(low, high, dtype=np.float32)
+
+    def action(self, action: np.ndarray) -> np.ndarray:
+        return action
+
+
+def normalized(env: gymnasium.Env, limits: Mapping[str, tuple[float, float]] | None = None) -> gymnasium.Env:
+    """``env`` seen by a policy (``PolicyView``) through [-1, 1] observations and actions (over ``limits``, by
+    action name): what a learner sees, and what ``PolicyNet`` undoes."""
+    env = PolicyView(ActionRange(env, limits or {}))
     box = env.observation_space
     assert isinstance(box, gymnasium.spaces.Box)
     ones = np.ones(box.shape, dtype=np.float32)
@@ -92,12 +113,14 @@ class Task:
     summary: str
     kwargs: dict[str, Any] = field(default_factory=dict)  # the environment's options while training
     episode_steps: int = 300  # the longest episode [steps]
+    # the learner's actions, by name, within these bounds (the others over the environment's own)
+    action_limits: dict[str, tuple[float, float]] = field(default_factory=lambda: dict(STRIKER_ACTIONS))
 
     def make(self, seed: int | None = None, reward: Callable[..., float] | None = None) -> gymnasium.Env:
         """One environment of this task, as a learner sees it (normalized), seeded with ``seed``."""
         env = gymnasium.make(self.env_id, max_steps=self.episode_steps,
                              reward_fn=TrainingReward() if reward is None else reward, **self.kwargs)
-        env = normalized(env)
+        env = normalized(env, self.action_limits)
         if seed is not None:
             env.reset(seed=seed)
             env.action_space.seed(seed)

@@ -47,7 +47,7 @@ from nubot_common.json_text import strict_json
 from nubot_common.policy import PolicyNet
 from nubot_match import NubotMatchError
 from nubot_match.learn.episodes import play, player
-from nubot_match.learn.tasks import TASKS, PolicyView, Task, episode_success, task
+from nubot_match.learn.tasks import TASKS, ActionRange, PolicyView, Task, episode_success, task
 
 ALGORITHMS = ("ppo",)
 EVAL_SEEDS = 1_000_000  # checkpoint evaluations play seeds EVAL_SEEDS, EVAL_SEEDS + 1, ... (not the training ones)
@@ -120,8 +120,8 @@ def export_policy(model: Any, the_task: Task, meta: dict[str, Any]) -> PolicyNet
         raise NubotMatchError(f"the policy's activations {activations} have no numpy twin")
     env = the_task.raw()
     try:
-        view = PolicyView(env)
-        obs_space, act_space, names = view.observation_space, env.action_space, view.names
+        view = PolicyView(ActionRange(env, the_task.action_limits))
+        obs_space, act_space, names = view.observation_space, view.action_space, view.names
         kick_max_speed = env.unwrapped.plugin.kick_max_speed
     finally:
         env.close()
@@ -166,6 +166,7 @@ class RunFolder:
         self.write_manifest({"options": asdict(options), "task": the_task.summary, "env_id": the_task.env_id,
                              "env_options": {**the_task.kwargs, "max_steps": the_task.episode_steps},
                              "reward": "nubot_match.learn.tasks.TrainingReward", "algorithm_options": PPO_OPTIONS,
+                             "action_limits": the_task.action_limits,
                              "versions": versions(), "commit": commit(), "cores": os.cpu_count(),
                              "started": datetime.now().isoformat(timespec="seconds")})
         return rows
