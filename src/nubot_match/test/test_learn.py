@@ -5,18 +5,20 @@ make bench (scripts/bench_train.py), not here."""
 
 import csv
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from nubot_common.policy import PolicyNet
+from nubot_common.policy import PolicyError, PolicyNet
+from nubot_control.policy_player import playable
 from nubot_match import NubotMatchError
 from nubot_match.config import TEAMS, match_config
 from nubot_match.engine import LockstepMatch
 from nubot_match.envs import SCORE_AGAINST_GOALIE
 from nubot_match.learn import compare, trainer
-from nubot_match.learn.episodes import SCRIPTED, play, player
-from nubot_match.learn.tasks import task
+from nubot_match.learn.episodes import SCRIPTED, play, play_team, player
+from nubot_match.learn.tasks import TASKS, single_task, task
 from nubot_match.learn.trainer import TrainOptions, train
 
 pytestmark = pytest.mark.filterwarnings("ignore::DeprecationWarning")
@@ -83,7 +85,7 @@ def test_the_same_seed_learns_the_same_and_a_run_resumes(tmp_path):
 
 
 @pytest.mark.parametrize("argv, words", [
-    (["--task", "juggle"], "unknown task 'juggle'; known: score"),
+    (["--task", "juggle"], "unknown task 'juggle'; known: duo, score"),
     (["--steps", "-5"], "--steps must be at least 1, got -5"),
     (["--algorithm", "dqn"], "unknown algorithm 'dqn'; known: ppo"),
     (["--workers", "0"], "--workers must be at least 1"),
@@ -144,3 +146,18 @@ def test_a_policy_trained_elsewhere_is_refused(tmp_path):
     with pytest.raises(NubotMatchError, match="trained on 'NuBot/Juggle-v0'"):
         player(str(tmp_path / "other.npz"), task("score"))
     assert callable(player(SCRIPTED, task("score")))
+
+
+def test_the_team_task_trains_one_policy_for_both_attackers_through_supersuit(tmp_path):
+    """make train TASK=duo: nubot2 and nubot3 of a 3 vs 3 share one policy (PettingZoo, SuperSuit, PPO)."""
+    train(TrainOptions(task="duo", steps=512, workers=1, seed=1, out=str(tmp_path / "duo"), checkpoint_every=512,
+                       eval_episodes=0))
+    net = PolicyNet.load(tmp_path / "duo" / "policy.npz")
+    assert net.meta["env_id"] == "nubot_match_v0" and net.meta["task"] == "duo"
+    assert "mate3_x" in net.observations and "opp2_x" in net.observations
+    [episode] = play_team(replace(TASKS["duo"], episode_steps=30), net, [0])
+    assert episode.steps == 30
+    with pytest.raises(PolicyError, match="which a robot in a match does not know"):
+        playable(net)
+    with pytest.raises(NubotMatchError, match="trains a team in the PettingZoo environment"):
+        player(str(tmp_path / "duo" / "policy.npz"), single_task("duo"))

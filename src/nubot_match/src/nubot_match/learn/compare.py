@@ -25,7 +25,7 @@ from pathlib import Path
 from nubot_common.json_text import strict_json
 from nubot_match import NubotMatchError
 from nubot_match.learn.episodes import SCRIPTED, Episode, play_parallel, player, success
-from nubot_match.learn.tasks import TASKS, task
+from nubot_match.learn.tasks import TASKS, single_task
 from nubot_match.statistics import Interval, mean_interval
 
 
@@ -86,7 +86,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, help="folder of the results (default evaluations/<task>-<time>)")
     args = parser.parse_args(argv)
     try:
-        the_task = task(args.task)
+        the_task = single_task(args.task)
         if args.episodes < 1 or args.jobs < 1:
             raise NubotMatchError(f"--episodes and --jobs must be at least 1, got {args.episodes} and {args.jobs}")
         policy = str(Path(args.policy).expanduser())

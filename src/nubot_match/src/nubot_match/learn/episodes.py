@@ -13,7 +13,6 @@ from __future__ import annotations
 import multiprocessing
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -21,21 +20,12 @@ import numpy as np
 from nubot_common.policy import PolicyError, PolicyNet, policy_input
 from nubot_match import NubotMatchError
 from nubot_match.envs.example import ScriptedAttacker
-from nubot_match.learn.tasks import Task, episode_success, task
+from nubot_match.learn.tasks import Episode, Task, TeamTask, episode_success, single_task
 from nubot_match.statistics import Interval, share_interval
 
 SCRIPTED = "scripted"
 CHUNK = 10  # episodes a worker plays at a time
 Player = Callable[[np.ndarray], np.ndarray]
-
-
-@dataclass(frozen=True)
-class Episode:
-    seed: int
-    scored: bool
-    reward: float  # the episode's return, default reward
-    steps: int
-    end: str  # "goal", "out", "dropped ball" or "time"
 
 
 def load_policy(path: str | Path, env_id: str) -> PolicyNet:
@@ -87,7 +77,7 @@ def play(the_task: Task, who: Player, seeds: Sequence[int]) -> list[Episode]:
 
 
 def _play_named(task_name: str, name: str, seeds: Sequence[int]) -> list[Episode]:
-    the_task = task(task_name)
+    the_task = single_task(task_name)
     return play(the_task, player(name, the_task), seeds)
 
 
@@ -95,7 +85,7 @@ def play_parallel(task_name: str, name: str, seeds: Sequence[int], jobs: int,
                   done: Callable[[int], None] | None = None) -> list[Episode]:
     """``play`` of the player ``name`` over ``seeds`` in ``jobs`` worker processes, in seed order; ``done(n)``
     after each ``CHUNK`` of n episodes."""
-    player(name, task(task_name))  # refuse a bad file here, before any worker starts
+    player(name, single_task(task_name))  # refuse a bad file here, before any worker starts
     chunks = [list(map(int, seeds[k:k + CHUNK])) for k in range(0, len(seeds), CHUNK)]
     episodes: list[Episode] = []
     if jobs <= 1:
@@ -114,3 +104,27 @@ def play_parallel(task_name: str, name: str, seeds: Sequence[int], jobs: int,
 
 def success(episodes: Sequence[Episode]) -> Interval:
     return share_interval(sum(e.scored for e in episodes), len(episodes))
+
+
+def play_team(task: TeamTask, net: PolicyNet, seeds: Sequence[int]) -> list[Episode]:
+    """Seeded episodes with ``net`` on every agent; an episode scores when the agents' team scored in it."""
+    env = task.raw()
+    names = env.observation_layout(task.agents[0])
+    episodes = []
+    try:
+        for seed in seeds:
+            obs, _info = env.reset(seed=int(seed))
+            goals, steps = 0.0, 0
+            scored = False
+            while env.agents:
+                actions = {a: net.act(policy_input(dict(zip(names, map(float, obs[a]))), net.observations, 0.0))
+                           .astype(np.float32) for a in env.agents}
+                obs, _rewards, _terms, _truncs, infos = env.step(actions)
+                steps += 1
+                goal = float(next(iter(infos.values()))["goal"]) if infos else 0.0
+                goals += goal
+                scored = scored or goal > 0
+            episodes.append(Episode(int(seed), scored, goals, steps, "goal" if scored else "time"))
+    finally:
+        env.close()
+    return episodes

@@ -1,6 +1,6 @@
 """Train a robot on a task with Stable-Baselines3 (``make train``, ``scripts/train.py``).
 
-    python scripts/train.py [--task score] [--algorithm ppo] [--steps 2000000] [--workers N] [--seed 0]
+    python scripts/train.py [--task score|duo] [--algorithm ppo] [--steps 2000000] [--workers N] [--seed 0]
                             [--out DIR [--resume]] [--checkpoint-every 100000] [--eval-episodes 50]
 
 Requires: ``requirements-train.txt`` (PyTorch's CPU build, Stable-Baselines3, TensorBoard; ``make train``
@@ -46,8 +46,8 @@ import numpy as np
 from nubot_common.json_text import strict_json
 from nubot_common.policy import PolicyNet
 from nubot_match import NubotMatchError
-from nubot_match.learn.episodes import play, player
-from nubot_match.learn.tasks import TASKS, ActionRange, PolicyView, Task, episode_success, task
+from nubot_match.learn.episodes import play, play_team, player
+from nubot_match.learn.tasks import TASKS, Task, TeamTask, episode_success, task
 
 ALGORITHMS = ("ppo",)
 EVAL_SEEDS = 1_000_000  # checkpoint evaluations play seeds EVAL_SEEDS, EVAL_SEEDS + 1, ... (not the training ones)
@@ -72,7 +72,7 @@ class TrainOptions:
     checkpoint_every: int = 100_000
     eval_episodes: int = 50
 
-    def check(self) -> Task:
+    def check(self) -> Task | TeamTask:
         """The task; ``NubotMatchError`` for options that cannot train."""
         the_task = task(self.task)
         if self.algorithm not in ALGORITHMS:
@@ -107,7 +107,7 @@ def commit() -> str:
 
 
 # --- the policy file -------------------------------------------------------------------------------------
-def export_policy(model: Any, the_task: Task, meta: dict[str, Any]) -> PolicyNet:
+def export_policy(model: Any, the_task: Task | TeamTask, meta: dict[str, Any]) -> PolicyNet:
     """The deterministic actor of an SB3 ``ActorCriticPolicy`` (its MLP to the Gaussian's mean) as a
     ``PolicyNet`` over the task's raw spaces."""
     import torch
@@ -118,13 +118,7 @@ def export_policy(model: Any, the_task: Task, meta: dict[str, Any]) -> PolicyNet
     activation = {"Tanh": "tanh", "ReLU": "relu"}.get(activations.pop() if activations else "Tanh")
     if activation is None or activations:
         raise NubotMatchError(f"the policy's activations {activations} have no numpy twin")
-    env = the_task.raw()
-    try:
-        view = PolicyView(ActionRange(env, the_task.action_limits))
-        obs_space, act_space, names = view.observation_space, view.action_space, view.names
-        kick_max_speed = env.unwrapped.plugin.kick_max_speed
-    finally:
-        env.close()
+    names, obs_space, act_space, kick_max_speed = the_task.policy_spaces()
     with torch.no_grad():
         weights = [m.weight.detach().cpu().numpy().astype(np.float64) for m in layers]
         biases = [m.bias.detach().cpu().numpy().astype(np.float64) for m in layers]
@@ -143,7 +137,7 @@ class RunFolder:
         self.curve = path / "curve.csv"
         self.manifest = path / "run.json"
 
-    def prepare(self, options: TrainOptions, the_task: Task) -> list[dict[str, float]]:
+    def prepare(self, options: TrainOptions, the_task: Task | TeamTask) -> list[dict[str, float]]:
         """Create the folder (or check it is this run's, to resume); the curve so far."""
         if options.resume:
             if not self.manifest.is_file():
@@ -164,7 +158,9 @@ class RunFolder:
         env = the_task.raw()
         env.close()
         self.write_manifest({"options": asdict(options), "task": the_task.summary, "env_id": the_task.env_id,
-                             "env_options": {**the_task.kwargs, "max_steps": the_task.episode_steps},
+                             "env_options": {**{k: str(v) if isinstance(v, Path) else v
+                                                for k, v in the_task.kwargs.items()},
+                                             "max_steps": the_task.episode_steps},
                              "reward": "nubot_match.learn.tasks.TrainingReward", "algorithm_options": PPO_OPTIONS,
                              "action_limits": the_task.action_limits,
                              "versions": versions(), "commit": commit(), "cores": os.cpu_count(),
@@ -240,17 +236,12 @@ def train(options: TrainOptions) -> Path:
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import BaseCallback
-    from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.utils import set_random_seed
-    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
     from tqdm import tqdm
 
     torch.set_num_threads(1)  # the workers have the cores; one thread also makes the updates repeatable
     set_random_seed(options.seed)
-    vec_cls = SubprocVecEnv if options.workers > 1 else DummyVecEnv
-    vec_kwargs = {"start_method": "forkserver"} if options.workers > 1 else None
-    env = make_vec_env(the_task.make, n_envs=options.workers, seed=options.seed, vec_env_cls=vec_cls,
-                       vec_env_kwargs=vec_kwargs)
+    env = the_task.make_vec(options.workers, options.seed)
     seeds = list(range(EVAL_SEEDS, EVAL_SEEDS + options.eval_episodes))
     meta = {"algorithm": options.algorithm, "seed": options.seed, "run": str(out.resolve())}
 
@@ -261,15 +252,18 @@ def train(options: TrainOptions) -> Path:
             super().__init__()
             self.start, self.next_checkpoint = start, (start // options.checkpoint_every + 1) * options.checkpoint_every
             self.scored = self.episodes = 0
+            self.goal_seen = np.zeros(env.num_envs, dtype=bool)  # per environment: a goal in its episode so far
             self.wall = time.monotonic() - (rows[-1]["wall_seconds"] if rows else 0.0)
             self.bar = tqdm(total=options.steps, initial=start, unit="step", unit_scale=True, file=sys.stderr,
                             dynamic_ncols=True, mininterval=2.0, desc=f"train {options.task}")
 
         def _on_step(self) -> bool:
-            for done, info in zip(self.locals["dones"], self.locals["infos"]):
+            for k, (done, info) in enumerate(zip(self.locals["dones"], self.locals["infos"])):
+                self.goal_seen[k] |= episode_success(info)
                 if done:
                     self.episodes += 1
-                    self.scored += episode_success(info)
+                    self.scored += bool(self.goal_seen[k])
+                    self.goal_seen[k] = False
             self.bar.update(self.model.num_timesteps - self.bar.n)
             if self.model.num_timesteps >= self.next_checkpoint:
                 self.checkpoint()
@@ -288,7 +282,9 @@ def train(options: TrainOptions) -> Path:
             if seeds:
                 from nubot_match.learn.episodes import success
 
-                rate = success(play(the_task, player(str(run.policies / f"policy_{steps}.npz"), the_task), seeds))
+                played = play(the_task, player(str(run.policies / f"policy_{steps}.npz"), the_task), seeds) \
+                    if isinstance(the_task, Task) else play_team(the_task, net, seeds)
+                rate = success(played)
                 row.update(success=rate.mean, low=rate.low, high=rate.high)
                 self.logger.record("eval/success_rate", rate.mean)
             self.logger.record("rollout/train_success_rate", row["train_success"])
@@ -353,6 +349,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     manifest = json.loads((out / "run.json").read_text())
     rate = manifest["this_session"]["steps_per_second"]
+    play = f"play it: make match POLICY={out / 'policy.npz'}" if isinstance(task(options.task), Task) else \
+        "it plays in the PettingZoo environment (nubot_match.learn.episodes.play_team)"
     print(f"train: {manifest['steps']:,} steps ({rate} steps/s); the policy file {out / 'policy.npz'}, the learning "
-          f"curve {out / 'learning_curve.png'}; play it: make match POLICY={out / 'policy.npz'}", flush=True)
+          f"curve {out / 'learning_curve.png'}; {play}", flush=True)
     return 0

@@ -32,7 +32,7 @@ import numpy as np
 from nubot_common.json_text import strict_json
 from nubot_match.learn.compare import summary
 from nubot_match.learn.episodes import SCRIPTED, play_parallel
-from nubot_match.learn.tasks import task
+from nubot_match.learn.tasks import single_task
 from nubot_match.learn.trainer import TrainOptions, train
 from nubot_tools.workspace import BENCH_RESULTS
 
@@ -42,7 +42,7 @@ def environment_rate(workers: int, steps: int) -> float:
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
-    the_task = task("score")
+    the_task = single_task("score")
     vec_cls = SubprocVecEnv if workers > 1 else DummyVecEnv
     env = make_vec_env(the_task.make, n_envs=workers, seed=0, vec_env_cls=vec_cls,
                        vec_env_kwargs={"start_method": "forkserver"} if workers > 1 else None)
