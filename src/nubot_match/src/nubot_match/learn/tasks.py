@@ -33,7 +33,8 @@ CONFIG = package_path("nubot_match") / "config"
 TEAM_ENV_ID = "nubot_match_v0"
 
 
-STRIKER_ACTIONS = {"vx": (-3.0, 3.0), "vy": (-1.5, 1.5), "w": (-4.0, 4.0)}  # [m/s], [rad/s]
+# a striker drives forwards, to the ball and with it (the ball handler is at its front): backwards at most 0.5 m/s
+STRIKER_ACTIONS = {"vx": (-0.5, 3.0), "vy": (-1.5, 1.5), "w": (-4.0, 4.0)}  # [m/s], [rad/s]
 FACING_RANGE = 2.0  # [m] the facing term of TrainingReward grows from this distance to the ball
 NEAR_BALL_STARTS = 0.3  # share of training episodes that start with the ball just in front of the learner
 
@@ -49,7 +50,7 @@ class TrainingReward:
 
     score: ScoreReward = field(default_factory=lambda: ScoreReward(step_cost=0.0, progress=0.1))
     approach: float = 0.1  # [1/m]
-    facing: float = 0.1  # potential: the cosine of the ball's bearing, within FACING_RANGE of the ball
+    facing: float = 0.3  # potential: the cosine of the ball's bearing, within FACING_RANGE of the ball
     possession: float = 0.5
 
     def potential(self, obs: np.ndarray) -> float:
