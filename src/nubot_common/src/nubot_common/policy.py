@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from nubot_common import NubotCommonError
 from nubot_common.commands import BodyVelocity, KickCommand, KickKind, RobotCommand
+from nubot_common.geometry import rotate
 from nubot_common.untrusted import UntrustedInputError, declared_arrays
 
 Array = NDArray[np.float64]
@@ -56,10 +57,10 @@ NEEDED = ("x", "y", "cos_theta", "sin_theta", "ball_dx", "ball_dy", "ball_vx", "
 def derived(values: Mapping[str, float], half_length: float) -> dict[str, float]:
     """The ``DERIVED`` entries from the team-frame ``values`` (``NEEDED``); the attacked goal's centre is at
     (``half_length``, 0)."""
-    c, s = values["cos_theta"], values["sin_theta"]
+    heading = math.atan2(values["sin_theta"], values["cos_theta"])
 
     def body(dx: float, dy: float) -> tuple[float, float]:
-        return c * dx + s * dy, -s * dx + c * dy
+        return rotate(dx, dy, -heading)
 
     out: dict[str, float] = {}
     ball = body(values["ball_dx"], values["ball_dy"])

@@ -26,6 +26,7 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
+from nubot_common.match_mode import MatchMode
 from nubot_common.policy import DERIVED, PolicyError, PolicyNet, command_from_action, policy_input
 from nubot_common.team_play import Role
 from nubot_control.params import ControlParams
@@ -99,7 +100,7 @@ class PolicyPlayer:
     def step(self, state: TeamState) -> ControlOutput:
         out = self.inner.step(state)
         in_play = getattr(self.inner, "in_open_play", None)
-        if not (in_play(state) if in_play is not None else state.mode.name == "STARTROBOT"):
+        if not (in_play(state) if in_play is not None else state.mode == MatchMode.STARTROBOT):
             self.playing, self.cycles = False, 0
             return out
         self.playing = True

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 import yaml
 
+from nubot_common.geometry import quaternion_to_yaw
 from nubot_common.processes import wait_until
 
 pytestmark = pytest.mark.integration
@@ -58,7 +59,7 @@ class Watch:
         self.poses = {n: (p.position.x, p.position.y) for n, p in zip(msg.name, msg.pose)}
         if "rival3" in msg.name:
             q = msg.pose[msg.name.index("rival3")].orientation
-            yaw = 2.0 * math.atan2(q.z, q.w)
+            yaw = quaternion_to_yaw(q.x, q.y, q.z, q.w)
             if self.yaw is not None:
                 self.turned += abs(math.remainder(yaw - self.yaw, 2.0 * math.pi))
             self.yaw = yaw

@@ -155,8 +155,6 @@ class RunFolder:
             rows = []
         for folder in (self.path, self.checkpoints, self.policies):
             folder.mkdir(parents=True, exist_ok=True)
-        env = the_task.raw()
-        env.close()
         self.write_manifest({"options": asdict(options), "task": the_task.summary, "env_id": the_task.env_id,
                              "env_options": {**{k: str(v) if isinstance(v, Path) else v
                                                 for k, v in the_task.kwargs.items()},
